@@ -1,0 +1,135 @@
+// The two intersection tests of RAPLAS, as pure functions over an Arith policy
+// (numfmt.hpp). Used unchanged by the front end and by the SystemC intersector
+// models, so timing can never change an answer. No dependencies.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include "raplas/core/numfmt.hpp"
+#include "raplas/core/vec.hpp"
+
+namespace raplas {
+
+// Records as stored in the machine's memories. All are float32 values: the
+// canonical data every number format starts from (conversion is the format's
+// own rounding, see load()).
+struct Sphere {
+    Vec3f c;
+    float r = 0;
+};
+
+// Plane n·x + w = 0 with |n| = 1 (normalised by the host).
+struct Plane {
+    Vec3f n;
+    float w = 0;
+};
+
+// Triangle Memory record: first vertex, two edges and the (unnormalised) normal
+// E = E1 x E2, precomputed by the host (paper §4: "location vectors V0, V1 and
+// V2, edge vectors E1 and E2, and normal vector E").
+struct TriangleRec {
+    Vec3f v0, e1, e2, n;
+};
+
+// A ray and the open interval (tmin, tmax) of its parameter; the point at
+// parameter t is o + t*d (d is not normalised).
+struct Ray {
+    Vec3f o, d;
+    float tmin = 0;
+    float tmax = 0;
+};
+
+// Nearest hit: t in the intersector's format, tri = Triangle Memory index
+// (-1: none). Ties in t go to the smaller index, so the result does not depend
+// on the order in which triangles are tested.
+struct Hit {
+    double t = 0;
+    std::int32_t tri = -1;
+    bool operator==(const Hit& o) const { return tri == o.tri && (tri < 0 || t == o.t); }
+    bool operator!=(const Hit& o) const { return !(*this == o); }
+};
+
+inline void keep_nearest(Hit& best, double t, std::int32_t tri) {
+    if (best.tri < 0 || t < best.t || (t == best.t && tri < best.tri)) {
+        best.t = t;
+        best.tri = tri;
+    }
+}
+
+// ---- values converted into a format ---------------------------------------
+
+template <class A> struct SphereA { typename A::T cx, cy, cz, r; };
+template <class A> struct PlaneA { typename A::T nx, ny, nz, w; };
+template <class A> struct TriA { typename A::T v0[3], e1[3], e2[3], n[3]; };
+template <class A> struct RayA { typename A::T o[3], d[3], tmin, tmax; };
+
+template <class A> inline SphereA<A> load(const A& a, const Sphere& s) {
+    return {a.cvt(s.c.x), a.cvt(s.c.y), a.cvt(s.c.z), a.cvt(s.r)};
+}
+template <class A> inline PlaneA<A> load(const A& a, const Plane& p) {
+    return {a.cvt(p.n.x), a.cvt(p.n.y), a.cvt(p.n.z), a.cvt(p.w)};
+}
+template <class A> inline TriA<A> load(const A& a, const TriangleRec& t) {
+    TriA<A> r;
+    for (int i = 0; i < 3; ++i) {
+        r.v0[i] = a.cvt(t.v0[static_cast<std::size_t>(i)]);
+        r.e1[i] = a.cvt(t.e1[static_cast<std::size_t>(i)]);
+        r.e2[i] = a.cvt(t.e2[static_cast<std::size_t>(i)]);
+        r.n[i] = a.cvt(t.n[static_cast<std::size_t>(i)]);
+    }
+    return r;
+}
+template <class A> inline RayA<A> load(const A& a, const Ray& ray) {
+    RayA<A> r;
+    for (int i = 0; i < 3; ++i) {
+        r.o[i] = a.cvt(ray.o[static_cast<std::size_t>(i)]);
+        r.d[i] = a.cvt(ray.d[static_cast<std::size_t>(i)]);
+    }
+    r.tmin = a.cvt(ray.tmin);
+    r.tmax = a.cvt(ray.tmax);
+    return r;
+}
+
+// ---- Eq. 1: plane-sphere test (3 mul + 3 add, then |d| <= r) --------------
+
+template <class A>
+inline bool plane_hits_sphere(const A& a, const PlaneA<A>& p, const SphereA<A>& s) {
+    auto d = a.add(a.add(a.add(a.mul(p.nx, s.cx), a.mul(p.ny, s.cy)), a.mul(p.nz, s.cz)), p.w);
+    return std::fabs(d) <= s.r;  // |.| is a sign-bit clear: exact in every format
+}
+
+// ---- Eq. 2: division-free ray-triangle test --------------------------------
+// With T = O - V0, det = D·E, t' = -E·T, u' = (D x T)·E2, v' = -(D x T)·E1
+// (all scaled by det, so no division decides the hit). Back faces (det < 0)
+// flip every sign. The edge rule is inclusive (u' >= 0, v' >= 0,
+// u' + v' <= det): a ray through a shared edge hits both triangles rather than
+// neither; docs/MODEL.md. Returns true and t = t'/det when the hit lies in
+// (tmin, tmax). Operation count: 18 mul, 15 add/sub, 1 div (only on a hit).
+template <class A>
+inline bool ray_hits_triangle(const A& a, const RayA<A>& r, const TriA<A>& tr, double& t_out) {
+    using T = typename A::T;
+    const T tx = a.sub(r.o[0], tr.v0[0]), ty = a.sub(r.o[1], tr.v0[1]), tz = a.sub(r.o[2], tr.v0[2]);
+    const T cx = a.sub(a.mul(r.d[1], tz), a.mul(r.d[2], ty));
+    const T cy = a.sub(a.mul(r.d[2], tx), a.mul(r.d[0], tz));
+    const T cz = a.sub(a.mul(r.d[0], ty), a.mul(r.d[1], tx));
+    T det = a.add(a.add(a.mul(r.d[0], tr.n[0]), a.mul(r.d[1], tr.n[1])), a.mul(r.d[2], tr.n[2]));
+    if (det == T(0) || !(std::fabs(det) == std::fabs(det))) return false;  // parallel, or NaN
+    T u = a.add(a.add(a.mul(cx, tr.e2[0]), a.mul(cy, tr.e2[1])), a.mul(cz, tr.e2[2]));
+    T v = -a.add(a.add(a.mul(cx, tr.e1[0]), a.mul(cy, tr.e1[1])), a.mul(cz, tr.e1[2]));
+    const bool back = det < T(0);
+    if (back) {
+        det = -det;
+        u = -u;
+        v = -v;
+    }
+    if (!(u >= T(0)) || !(v >= T(0)) || !(a.add(u, v) <= det)) return false;
+    T tp = -a.add(a.add(a.mul(tr.n[0], tx), a.mul(tr.n[1], ty)), a.mul(tr.n[2], tz));
+    if (back) tp = -tp;
+    const T t = a.div(tp, det);
+    if (!(t > r.tmin) || !(t < r.tmax)) return false;
+    t_out = static_cast<double>(t);
+    return true;
+}
+
+}  // namespace raplas

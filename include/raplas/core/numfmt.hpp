@@ -1,0 +1,103 @@
+// Number formats of the intersectors. The kernels in intersect.hpp are written
+// against an "Arith" policy (add/sub/mul/div/cvt on a value type T), so the same
+// source runs in float64, float32 or an emulated reduced-precision float.
+// No dependencies beyond the standard library.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+
+namespace raplas {
+
+enum class Rounding : std::uint8_t { nearest_even, toward_zero };
+
+// A binary floating-point format: 1 sign bit, `exp_bits` exponent bits (IEEE
+// bias), `man_bits` stored fraction bits (hidden leading 1), gradual underflow
+// unless `flush_subnormals`. float32 and float64 run natively; any other
+// combination is emulated bit-exactly (see round()).
+struct NumFormat {
+    enum class Kind : std::uint8_t { f64, f32, custom };
+    Kind kind = Kind::f32;
+    int exp_bits = 8;
+    int man_bits = 23;
+    Rounding rounding = Rounding::nearest_even;
+    bool flush_subnormals = false;
+
+    static NumFormat float64() { return {Kind::f64, 11, 52, Rounding::nearest_even, false}; }
+    static NumFormat float32() { return {Kind::f32, 8, 23, Rounding::nearest_even, false}; }
+    // "float64", "float32", or "fp<S>-<E>-<M>[-rne|-rtz][-ftz]" e.g. "fp1-7-16".
+    // Throws std::invalid_argument with a one-line reason.
+    static NumFormat parse(const std::string& text);
+    std::string name() const;
+    int total_bits() const { return 1 + exp_bits + man_bits; }
+    // Largest relative rounding error of one operation (unit roundoff).
+    double unit_roundoff() const {
+        return std::ldexp(1.0, -(man_bits + (rounding == Rounding::nearest_even ? 1 : 0)));
+    }
+    double max_finite() const;
+    double min_normal() const { return std::ldexp(1.0, 2 - (1 << (exp_bits - 1))); }
+
+    // Rounds x (taken as exact) into this format. `residual_sign` says on which
+    // side of x the exact value lies when x is itself an already-rounded double
+    // (+1 above, -1 below, 0 exact): it makes double-then-round bit-exact.
+    double round(double x, int residual_sign = 0) const;
+    bool operator==(const NumFormat& o) const {
+        return kind == o.kind && exp_bits == o.exp_bits && man_bits == o.man_bits &&
+               rounding == o.rounding && flush_subnormals == o.flush_subnormals;
+    }
+};
+
+// ---- Arith policies -------------------------------------------------------
+
+template <class F>
+struct ArithNative {
+    using T = F;
+    T cvt(double x) const { return static_cast<T>(x); }
+    T add(T a, T b) const { return a + b; }
+    T sub(T a, T b) const { return a - b; }
+    T mul(T a, T b) const { return a * b; }
+    T div(T a, T b) const { return a / b; }
+};
+using ArithF32 = ArithNative<float>;
+using ArithF64 = ArithNative<double>;
+
+// Emulated format: values are carried in a double that always holds a value of
+// the format; every operation is computed in double and rounded once, with the
+// exact residual (TwoSum / FMA) deciding ties, so results equal a correctly
+// rounded hardware operation for formats of up to 25 fraction bits.
+struct ArithSoft {
+    using T = double;
+    NumFormat f;
+    // When false, additions keep the exponent of the larger operand (no
+    // post-normalisation after cancellation), as in the paper's PSI (§4).
+    bool normalize_add = true;
+
+    T cvt(double x) const { return f.round(x); }
+    T add(T a, T b) const {
+        double s = a + b;
+        double bb = s - a;
+        double e = (a - (s - bb)) + (b - bb);  // TwoSum: a + b == s + e exactly
+        int sign = e > 0 ? 1 : (e < 0 ? -1 : 0);
+        if (!normalize_add) return add_unnormalized(a, b, s, sign);
+        return f.round(s, sign);
+    }
+    T sub(T a, T b) const { return add(a, -b); }
+    T mul(T a, T b) const {
+        double p = a * b;
+        double e = std::fma(a, b, -p);
+        return f.round(p, e > 0 ? 1 : (e < 0 ? -1 : 0));
+    }
+    T div(T a, T b) const {
+        double q = a / b;
+        double r = std::fma(-q, b, a);  // a - q*b exactly
+        int sign = 0;
+        if (r != 0 && std::isfinite(q)) sign = ((r > 0) == (b > 0)) ? 1 : -1;
+        return f.round(q, sign);
+    }
+
+private:
+    T add_unnormalized(T a, T b, double s, int sign) const;
+};
+
+}  // namespace raplas

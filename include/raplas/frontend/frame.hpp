@@ -1,0 +1,51 @@
+// One frame through the RAPLAS front end: bounding spheres, primary ray
+// groups, one shadow group per pixel whose primary ray hits, Lambert shading
+// with soft shadows (visible fraction of the light's samples).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "raplas/frontend/tracer.hpp"
+
+namespace raplas {
+
+struct FrameOptions {
+    NumFormat format = NumFormat::float32();
+    unsigned threads = 0;   // 0: all cores
+    bool record = false;    // keep every group and its sphere-hit list (for the trace)
+    bool per_ray = false;   // per-pixel work counts (heat map)
+};
+
+struct PhaseTimes {
+    double spheres_s = 0, primary_s = 0, shadow_s = 0, shade_s = 0;
+};
+
+struct Frame {
+    int width = 0, height = 0;
+    SphereSet spheres;
+    double sphere_margin = 0;
+    std::vector<RayGroup> primary;           // issue order
+    std::vector<RayGroup> shadow;            // issue order (pixel order); kept when recording
+    std::vector<GroupResult> primary_results;
+    std::vector<GroupResult> shadow_results;  // kept when recording
+    std::vector<Ray> pixel_ray;              // W*H primary rays as traced
+    std::vector<Hit> pixel_hit;              // W*H nearest hits (tri = Triangle Memory index)
+    std::vector<float> visibility;           // W*H: unoccluded fraction of light samples (-1: no hit)
+    std::vector<float> rgb;                  // W*H*3 linear radiance
+    std::vector<std::uint64_t> work_rt;      // W*H ray-triangle tests (primary ray + its shadow group)
+    std::vector<std::uint64_t> work_spheres;  // W*H sphere hits (same)
+    std::uint64_t shadow_group_count = 0;
+    GroupCounts primary_counts, shadow_counts;
+    PhaseTimes times;
+};
+
+Frame render_frame(const Scene& scene, const FrameOptions& opt);
+
+// Largest coordinate magnitude of geometry, eye and light: sets the margin.
+double scene_extent(const Scene& scene);
+// Shadow ray origin for a primary hit: the hit point, offset along the
+// normal toward the side the primary ray came from.
+Vec3f shadow_origin(const Scene& scene, const SphereSet& s, const Ray& r, const Hit& h);
+
+}  // namespace raplas

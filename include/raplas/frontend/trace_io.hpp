@@ -1,0 +1,59 @@
+// The profile trace: the workload the timing model consumes. Versioned
+// binary format with a header, section sizes and a checksum (docs/TRACE.md);
+// the reader rejects truncated, corrupt or foreign-version files with a
+// one-line InputError naming the file.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "raplas/frontend/frame.hpp"
+
+namespace raplas {
+
+constexpr std::uint32_t kTraceVersion = 1;
+
+struct TraceGroup {
+    GroupKind kind = GroupKind::primary;
+    std::uint32_t n = 0;
+    std::int32_t px = 0, py = 0;
+    Vec3f origin;
+    float tmax = 0;
+    std::uint64_t row_valid = 0, col_valid = 0;
+    std::vector<Plane> planes;            // 2N
+    std::vector<Vec3f> dirs;              // N*N ray directions, index v*N + h
+    std::vector<SphereHitRec> sphere_hits;  // spheres with a row and a column plane hit, in stream order
+    GroupCounts counts;
+    std::vector<Hit> hits;                // N*N nearest hits found by the front end
+
+    Ray ray(std::uint32_t h, std::uint32_t v) const {
+        return Ray{origin, dirs[std::size_t(v) * n + h], 0.0f, tmax};
+    }
+    bool ray_valid(std::uint32_t h, std::uint32_t v) const { return (row_valid >> v & 1) && (col_valid >> h & 1); }
+};
+
+struct Trace {
+    std::string scene_name;
+    NumFormat format;
+    std::uint32_t width = 0, height = 0;
+    std::uint32_t group_size = 0, shadow_group_size = 0, tris_per_sphere = 0;
+    std::vector<Sphere> spheres;
+    std::vector<std::uint32_t> first_tri, tri_count;
+    std::vector<TriangleRec> triangles;
+    std::vector<std::int32_t> tri_mesh_index;
+    std::uint32_t primary_groups = 0;     // groups [0, primary_groups) are primary, the rest shadow
+    std::vector<TraceGroup> groups;       // issue order
+
+    GroupCounts total_counts() const;
+};
+
+// Builds the trace from a frame rendered with FrameOptions::record.
+Trace make_trace(const Scene& scene, const Frame& frame, const NumFormat& format);
+
+std::string serialize_trace(const Trace& t);
+Trace parse_trace(const std::string& bytes, const std::string& name);
+void write_trace(const std::string& path, const Trace& t);  // atomic
+Trace read_trace(const std::string& path);
+
+}  // namespace raplas

@@ -1,0 +1,42 @@
+// Triangle mesh as loaded: vertices, triangles in file order after
+// triangulation (this order defines the "mesh triangle index"), materials.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "raplas/core/vec.hpp"
+
+namespace raplas {
+
+struct Material {
+    std::string name = "default";
+    Vec3f diffuse{0.75f, 0.75f, 0.75f};
+    Vec3f emission{0.f, 0.f, 0.f};
+};
+
+struct Mesh {
+    std::vector<Vec3f> vertices;
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+    std::vector<std::int32_t> triangle_material;  // index into materials, per triangle
+    std::vector<Material> materials;              // never empty: [0] is the default
+    std::string source;                           // file path, or "<builtin:NAME>"
+
+    std::size_t triangle_count() const { return triangles.size(); }
+    Aabb bounds() const;
+    Vec3f corner(std::size_t tri, int k) const { return vertices[triangles[tri][static_cast<std::size_t>(k)]]; }
+};
+
+// Loads an OBJ (and its MTL when present): polygons are triangulated as fans,
+// Kd is the diffuse colour, Ke the emission. Every problem (missing/empty
+// file, non-finite coordinate, bad index, face with < 3 vertices) throws
+// InputError "FILE:LINE: ...".
+Mesh load_obj(const std::string& path);
+
+// Procedural default scene (no file needed): a floor, a back wall, a box and
+// two tessellated spheres. `detail` scales the sphere tessellation.
+Mesh builtin_mesh(int detail = 3);
+
+}  // namespace raplas

@@ -1,0 +1,72 @@
+// A scene: a mesh plus camera, rectangular area light, image size and the
+// RAPLAS grouping parameters. Scene files are TOML validated by ParamSet
+// (docs/SCENES.md); anything not given is chosen automatically from the mesh.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "raplas/scene/mesh.hpp"
+#include "raplas/util/params.hpp"
+
+namespace raplas {
+
+struct Camera {
+    Vec3d eye, look_at, up{0, 1, 0};
+    double fov_deg = 40;  // vertical field of view
+};
+
+// One-sided rectangle: points corner + a*edge_u + b*edge_v, a,b in [0,1];
+// it emits toward edge_u x edge_v.
+struct AreaLight {
+    Vec3d corner, edge_u, edge_v;
+    Vec3d emission{1, 1, 1};
+    Vec3d normal() const { return normalize(cross(edge_u, edge_v)); }
+    Vec3d center() const { return corner + edge_u * 0.5 + edge_v * 0.5; }
+};
+
+struct Scene {
+    std::string name;
+    Mesh mesh;
+    Camera camera;
+    AreaLight light;
+    bool camera_auto = false, light_auto = false;
+    int width = 64, height = 64;
+    int group_size = 16;         // N: primary ray groups are N x N pixel tiles
+    int shadow_group_size = 16;  // shadow ray groups: an N x N grid on the light
+    int tris_per_sphere = 2;     // K: triangles per bounding sphere (at most)
+    std::string sphere_method = "median-split";
+    double ambient = 0.15;
+    double shadow_offset = 1e-4;  // shadow ray origin offset, fraction of the scene's diagonal
+};
+
+// Every scene key with its default, range and description.
+ParamSet scene_params();
+
+// Where relative mesh paths are looked up after the scene file's directory:
+// the working directory, $RAPLAS_SCENE_PATH (colon-separated),
+// ./../shared/scenes, <scene dir>/../../shared/scenes and the source tree's
+// ../shared/scenes.
+std::vector<std::string> scene_search_path(const std::string& scene_dir);
+std::string resolve_mesh_path(const std::string& mesh, const std::string& scene_dir);
+
+struct SceneRequest {
+    std::string scene_file;             // TOML scene file, or empty
+    std::string mesh_file;              // --mesh OBJ, or empty
+    std::vector<std::string> overrides;  // --set key=value on scene keys
+};
+
+// Loads the request: no scene and no mesh gives the built-in procedural
+// scene. Throws InputError on bad input.
+Scene load_scene(const SceneRequest& req);
+// Same, from a ParamSet already loaded and overridden.
+Scene scene_from_params(const ParamSet& p, const std::string& mesh_override);
+
+// Automatic framing and lighting from the mesh bounds.
+Camera auto_camera(const Mesh& m, double fov_deg);
+AreaLight auto_light(const Mesh& m);
+// Appends a floor quad just below the mesh (scene key `floor`).
+void add_floor(Mesh& m);
+
+}  // namespace raplas

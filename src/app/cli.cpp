@@ -1,0 +1,174 @@
+#include "raplas/app/cli.hpp"
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+
+#include "raplas/app/image_io.hpp"
+#include "raplas/app/reports.hpp"
+#include "raplas/frontend/trace_io.hpp"
+#include "raplas/util/atomic_file.hpp"
+#include "raplas/util/error.hpp"
+
+#ifndef RAPLAS_VERSION
+#define RAPLAS_VERSION "unknown"
+#endif
+
+namespace raplas {
+
+namespace {
+
+double since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Options every front-end command shares: what scene, which overrides.
+struct SceneOptions {
+    std::string scene, mesh, format = "float32";
+    std::vector<std::string> sets;
+    unsigned threads = 0;
+    bool dump_scene = false;
+    bool quiet = false;
+
+    void add_to(CLI::App* cmd) {
+        cmd->add_option("--scene", scene, "scene file (TOML, see docs/SCENES.md); default: the built-in scene");
+        cmd->add_option("--mesh", mesh, "any OBJ file, framed and lit automatically");
+        cmd->add_option("--set", sets, "override a scene key, e.g. --set image.width=128 (repeatable)");
+        cmd->add_option("--format", format, "number format of the intersection tests: float32, float64, fp1-E-M[-rtz]");
+        cmd->add_option("--threads", threads, "worker threads (default: all cores)");
+        cmd->add_flag("--dump-scene", dump_scene, "print the resolved scene as TOML and exit");
+        cmd->add_flag("-q,--quiet", quiet, "no summary on stdout");
+    }
+    NumFormat parsed_format() const {
+        try {
+            return NumFormat::parse(format);
+        } catch (const std::invalid_argument& e) {
+            throw InputError(std::string("--format: ") + e.what());
+        }
+    }
+    // Returns false when --dump-scene printed the scene.
+    bool load(Scene& out, double& load_s) const {
+        auto t0 = std::chrono::steady_clock::now();
+        if (!scene.empty() && !mesh.empty()) throw InputError("give either --scene or --mesh, not both");
+        ParamSet p = scene_params();
+        if (!scene.empty()) p.load_file(scene);
+        for (const auto& s : sets) p.set(s);
+        if (dump_scene) {
+            std::cout << p.dump();
+            return false;
+        }
+        out = scene_from_params(p, mesh);
+        load_s = since(t0);
+        return true;
+    }
+};
+
+int cmd_render(const SceneOptions& so, const std::string& out_png, const std::string& heatmap,
+               const std::string& hits, const std::string& json) {
+    NumFormat fmt = so.parsed_format();
+    Scene scene;
+    RenderReport rep;
+    if (!so.load(scene, rep.load_s)) return 0;
+    FrameOptions fo;
+    fo.format = fmt;
+    fo.threads = so.threads;
+    fo.per_ray = !heatmap.empty();
+    Frame frame = render_frame(scene, fo);
+    auto t0 = std::chrono::steady_clock::now();
+    if (!out_png.empty()) write_rgb_image(out_png, frame.width, frame.height, frame.rgb);
+    if (!heatmap.empty()) write_heatmap(heatmap, frame.width, frame.height, frame.work_rt);
+    if (!hits.empty()) write_file_atomically(hits, hits_csv(frame));
+    rep.write_s = since(t0);
+    rep.scene = &scene;
+    rep.frame = &frame;
+    rep.format = fmt;
+    rep.quality = sphere_quality(frame.spheres);
+    rep.naive_quality = sphere_quality(build_spheres(scene.mesh, scene.tris_per_sphere, "file-order", frame.sphere_margin));
+    if (!json.empty()) write_file_atomically(json, render_json(rep));
+    if (!so.quiet) {
+        std::cout << render_summary(rep);
+        if (!out_png.empty()) std::cout << "  wrote " << out_png << "\n";
+    }
+    return 0;
+}
+
+int cmd_trace(const SceneOptions& so, const std::string& out, const std::string& json) {
+    NumFormat fmt = so.parsed_format();
+    Scene scene;
+    RenderReport rep;
+    if (!so.load(scene, rep.load_s)) return 0;
+    FrameOptions fo;
+    fo.format = fmt;
+    fo.threads = so.threads;
+    fo.record = true;
+    Frame frame = render_frame(scene, fo);
+    auto t0 = std::chrono::steady_clock::now();
+    Trace t = make_trace(scene, frame, fmt);
+    std::string bytes = serialize_trace(t);
+    write_file_atomically(out, bytes);
+    rep.write_s = since(t0);
+    rep.scene = &scene;
+    rep.frame = &frame;
+    rep.format = fmt;
+    rep.quality = sphere_quality(frame.spheres);
+    if (!json.empty()) write_file_atomically(json, render_json(rep));
+    if (!so.quiet) {
+        std::cout << render_summary(rep);
+        std::cout << "  wrote " << out << " (" << bytes.size() << " bytes, " << t.groups.size() << " ray groups)\n";
+    }
+    return 0;
+}
+
+}  // namespace
+
+int run_cli(int argc, char** argv) {
+    CLI::App app{"raplas: cycle-accurate simulator of the RAPLAS ray-tracing accelerator (Kaeriyama et al., ICCD 2007)"};
+    app.set_version_flag("--version", std::string("raplas ") + RAPLAS_VERSION);
+    app.require_subcommand(1);
+
+    SceneOptions render_so;
+    std::string out_png = "render.png", heatmap, hits, json;
+    auto* render = app.add_subcommand("render", "render a scene with the RAPLAS method and write a PNG");
+    render_so.add_to(render);
+    render->add_option("-o,--out", out_png, "output image (PNG)")->capture_default_str();
+    render->add_option("--heatmap", heatmap, "per-pixel work heat map (ray-triangle tests, log scale) PNG");
+    render->add_option("--hits", hits, "CSV, one row per primary ray: x,y,ox,oy,oz,dx,dy,dz,tri,t");
+    render->add_option("--json", json, "counts and per-phase wall time as JSON");
+
+    SceneOptions trace_so;
+    std::string trace_out, trace_json;
+    auto* trace = app.add_subcommand("trace", "write the profile trace the timing model consumes (docs/TRACE.md)");
+    trace_so.add_to(trace);
+    trace->add_option("-o,--out", trace_out, "trace file")->required();
+    trace->add_option("--json", trace_json, "counts and per-phase wall time as JSON");
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::cerr << "raplas: error: " << e.what() << " (see raplas --help)\n";
+        return kExitInputError;
+    }
+    try {
+        if (render->parsed()) return cmd_render(render_so, out_png, heatmap, hits, json);
+        if (trace->parsed()) return cmd_trace(trace_so, trace_out, trace_json);
+    } catch (const InputError& e) {
+        std::cerr << "raplas: error: " << e.what() << "\n";
+        return kExitInputError;
+    } catch (const std::bad_alloc&) {
+        std::cerr << "raplas: error: out of memory\n";
+        return kExitInternalError;
+    } catch (const std::exception& e) {
+        std::cerr << "raplas: internal error: " << e.what() << "\n";
+        return kExitInternalError;
+    }
+    return kExitInputError;
+}
+
+}  // namespace raplas

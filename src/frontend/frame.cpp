@@ -1,0 +1,157 @@
+#include "raplas/frontend/frame.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "raplas/util/parallel.hpp"
+
+namespace raplas {
+
+namespace {
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+double scene_extent(const Scene& scene) {
+    double e = 0;
+    for (const auto& v : scene.mesh.vertices) e = std::max(e, max_abs(to_d(v)));
+    e = std::max(e, max_abs(scene.camera.eye));
+    e = std::max(e, max_abs(scene.light.corner));
+    e = std::max(e, max_abs(scene.light.corner + scene.light.edge_u + scene.light.edge_v));
+    return e;
+}
+
+Vec3f shadow_origin(const Scene& scene, const SphereSet& s, const Ray& r, const Hit& h) {
+    const TriangleRec& tr = s.triangles[static_cast<std::size_t>(h.tri)];
+    Vec3d d = to_d(r.d);
+    Vec3d x = to_d(r.o) + d * h.t;
+    Vec3d nrm = normalize(to_d(tr.n));
+    if (dot(nrm, d) > 0) nrm = -nrm;
+    double diag = length(scene.mesh.bounds().extent());
+    return to_f(x + nrm * (scene.shadow_offset * diag));
+}
+
+Frame render_frame(const Scene& scene, const FrameOptions& opt) {
+    using clock = std::chrono::steady_clock;
+    const unsigned threads = opt.threads ? opt.threads : default_threads();
+    Frame f;
+    f.width = scene.width;
+    f.height = scene.height;
+    const std::size_t npix = std::size_t(scene.width) * std::size_t(scene.height);
+
+    auto t0 = clock::now();
+    f.sphere_margin = conservative_margin(opt.format.unit_roundoff(), scene_extent(scene));
+    f.spheres = build_spheres(scene.mesh, scene.tris_per_sphere, scene.sphere_method, f.sphere_margin);
+    Tracer tracer(f.spheres, opt.format);
+    f.times.spheres_s = seconds_since(t0);
+
+    // Primary groups.
+    t0 = clock::now();
+    f.primary = primary_groups(scene);
+    f.primary_results.resize(f.primary.size());
+    parallel_for(f.primary.size(), threads,
+                 [&](std::size_t i) { tracer.trace(f.primary[i], f.primary_results[i], opt.record, opt.per_ray); });
+    f.pixel_ray.resize(npix);
+    f.pixel_hit.assign(npix, Hit{});
+    f.work_rt.assign(npix, 0);
+    f.work_spheres.assign(npix, 0);
+    for (std::size_t i = 0; i < f.primary.size(); ++i) {
+        const RayGroup& g = f.primary[i];
+        const GroupResult& res = f.primary_results[i];
+        f.primary_counts += res.counts;
+        for (std::uint32_t v = 0; v < g.n; ++v) {
+            for (std::uint32_t h = 0; h < g.n; ++h) {
+                if (!g.ray_valid(h, v)) continue;
+                std::size_t px = std::size_t(g.py + int(v)) * std::size_t(scene.width) + std::size_t(g.px + int(h));
+                f.pixel_ray[px] = group_ray(g, h, v);
+                f.pixel_hit[px] = res.hits[v * g.n + h];
+                if (opt.per_ray) {
+                    f.work_rt[px] += res.ray_rt_tests[v * g.n + h];
+                    f.work_spheres[px] += res.ray_sphere_hits[v * g.n + h];
+                }
+            }
+        }
+    }
+    if (!opt.record) f.primary_results.clear();
+    f.times.primary_s = seconds_since(t0);
+
+    // Shadow groups: one per pixel whose primary ray hits, in pixel order.
+    t0 = clock::now();
+    std::vector<std::size_t> lit_pixels;
+    for (std::size_t px = 0; px < npix; ++px)
+        if (f.pixel_hit[px].tri >= 0) lit_pixels.push_back(px);
+    f.shadow_group_count = lit_pixels.size();
+    std::vector<RayGroup> shadow(lit_pixels.size());
+    std::vector<GroupResult> shadow_res(lit_pixels.size());
+    std::vector<GroupCounts> counts(lit_pixels.size());
+    f.visibility.assign(npix, -1.0f);
+    std::vector<float> direct(npix, 0.0f);
+    const Vec3d light_n = scene.light.normal();
+    parallel_for(lit_pixels.size(), threads, [&](std::size_t i) {
+        const std::size_t px = lit_pixels[i];
+        const int x = int(px % std::size_t(scene.width)), y = int(px / std::size_t(scene.width));
+        RayGroup g = shadow_group(scene, shadow_origin(scene, f.spheres, f.pixel_ray[px], f.pixel_hit[px]), x, y);
+        GroupResult res;
+        tracer.trace(g, res, opt.record, false);
+        counts[i] = res.counts;
+        // shading terms
+        const Ray& pr = f.pixel_ray[px];
+        const TriangleRec& tr = f.spheres.triangles[static_cast<std::size_t>(f.pixel_hit[px].tri)];
+        Vec3d nrm = normalize(to_d(tr.n));
+        if (dot(nrm, to_d(pr.d)) > 0) nrm = -nrm;
+        std::uint32_t unoccluded = 0;
+        double sum_cos = 0;
+        for (std::uint32_t v = 0; v < g.n; ++v) {
+            for (std::uint32_t h = 0; h < g.n; ++h) {
+                if (res.hits[v * g.n + h].tri >= 0) continue;
+                ++unoccluded;
+                Vec3d w = normalize(to_d(group_ray(g, h, v).d));
+                double cs = dot(nrm, w);
+                if (cs > 0 && dot(light_n, -w) > 0) sum_cos += cs;
+            }
+        }
+        const double samples = double(g.n) * g.n;
+        f.visibility[px] = float(unoccluded / samples);
+        direct[px] = float(sum_cos / samples);
+        if (opt.per_ray) {
+            f.work_rt[px] += res.counts.rt_tests;
+            f.work_spheres[px] += res.counts.sphere_hits;
+        }
+        if (opt.record) {
+            shadow[i] = std::move(g);
+            res.hits.shrink_to_fit();
+            shadow_res[i] = std::move(res);
+        }
+    });
+    for (const auto& c : counts) f.shadow_counts += c;
+    if (opt.record) {
+        f.shadow = std::move(shadow);
+        f.shadow_results = std::move(shadow_res);
+    }
+    f.times.shadow_s = seconds_since(t0);
+
+    // Lambert shading.
+    t0 = clock::now();
+    f.rgb.assign(npix * 3, 0.0f);
+    for (std::size_t px = 0; px < npix; ++px) {
+        float* out = &f.rgb[px * 3];
+        if (f.pixel_hit[px].tri < 0) {
+            out[0] = 0.05f; out[1] = 0.05f; out[2] = 0.07f;
+            continue;
+        }
+        std::size_t mesh_tri = static_cast<std::size_t>(f.spheres.tri_mesh_index[static_cast<std::size_t>(f.pixel_hit[px].tri)]);
+        const Material& m = scene.mesh.materials[static_cast<std::size_t>(scene.mesh.triangle_material[mesh_tri])];
+        for (int c = 0; c < 3; ++c) {
+            double kd = m.diffuse[static_cast<std::size_t>(c)];
+            double e = m.emission[static_cast<std::size_t>(c)];
+            double lit = scene.ambient + (1.0 - scene.ambient) * scene.light.emission[static_cast<std::size_t>(c)] * direct[px];
+            out[c] = float(kd * lit + e);
+        }
+    }
+    f.times.shade_s = seconds_since(t0);
+    return f;
+}
+
+}  // namespace raplas

@@ -1,0 +1,288 @@
+#include "raplas/frontend/trace_io.hpp"
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "raplas/util/atomic_file.hpp"
+#include "raplas/util/error.hpp"
+
+namespace raplas {
+
+namespace {
+
+constexpr char kMagic[8] = {'R', 'A', 'P', 'L', 'T', 'R', 'C', '\n'};
+constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8 + 8;
+// Sanity limits that keep a corrupt header from asking for absurd memory.
+constexpr std::uint64_t kMaxCount = std::uint64_t(1) << 32;
+
+std::uint64_t fnv1a(const char* p, std::size_t n) {
+    std::uint64_t h = 1469598103934665603ull;
+    for (std::size_t i = 0; i < n; ++i) {
+        h ^= static_cast<unsigned char>(p[i]);
+        h *= 1099511628211ull;
+    }
+    return h;
+}
+
+struct Writer {
+    std::string out;
+    template <class T> void put(const T& v) { out.append(reinterpret_cast<const char*>(&v), sizeof(T)); }
+    void put_vec(const Vec3f& v) { put(v.x); put(v.y); put(v.z); }
+    void put_str(const std::string& s) { put(std::uint32_t(s.size())); out += s; }
+    void put_mask(std::uint64_t m, std::uint32_t bytes) {
+        for (std::uint32_t i = 0; i < bytes; ++i) out.push_back(char((m >> (8 * i)) & 0xff));
+    }
+};
+
+struct Reader {
+    const std::string& in;
+    std::size_t pos;
+    const std::string& name;
+    InputError fail(const std::string& why) const {
+        return InputError(name + ": corrupt trace at byte " + std::to_string(pos) + ": " + why);
+    }
+    void need(std::size_t n) const {
+        if (in.size() - pos < n) throw fail("truncated");
+    }
+    template <class T> T get() {
+        need(sizeof(T));
+        T v;
+        std::memcpy(&v, in.data() + pos, sizeof(T));
+        pos += sizeof(T);
+        return v;
+    }
+    Vec3f get_vec() { float x = get<float>(), y = get<float>(), z = get<float>(); return {x, y, z}; }
+    std::string get_str() {
+        auto n = get<std::uint32_t>();
+        if (n > 4096) throw fail("string too long");
+        need(n);
+        std::string s = in.substr(pos, n);
+        pos += n;
+        return s;
+    }
+    std::uint64_t get_mask(std::uint32_t bytes) {
+        need(bytes);
+        std::uint64_t m = 0;
+        for (std::uint32_t i = 0; i < bytes; ++i) m |= std::uint64_t(static_cast<unsigned char>(in[pos + i])) << (8 * i);
+        pos += bytes;
+        return m;
+    }
+    std::uint64_t get_count(std::uint64_t per_item_bytes) {
+        auto n = get<std::uint64_t>();
+        if (n > kMaxCount || n * per_item_bytes > in.size() - pos) throw fail("count " + std::to_string(n) + " exceeds the file");
+        return n;
+    }
+};
+
+std::uint32_t mask_bytes(std::uint32_t n) { return (n + 7) / 8; }
+
+}  // namespace
+
+GroupCounts Trace::total_counts() const {
+    GroupCounts c;
+    for (const auto& g : groups) c += g.counts;
+    return c;
+}
+
+Trace make_trace(const Scene& scene, const Frame& f, const NumFormat& format) {
+    Trace t;
+    t.scene_name = scene.name;
+    t.format = format;
+    t.width = std::uint32_t(scene.width);
+    t.height = std::uint32_t(scene.height);
+    t.group_size = std::uint32_t(scene.group_size);
+    t.shadow_group_size = std::uint32_t(scene.shadow_group_size);
+    t.tris_per_sphere = std::uint32_t(scene.tris_per_sphere);
+    t.spheres = f.spheres.spheres;
+    t.first_tri = f.spheres.first_tri;
+    t.tri_count = f.spheres.tri_count;
+    t.triangles = f.spheres.triangles;
+    t.tri_mesh_index = f.spheres.tri_mesh_index;
+    t.primary_groups = std::uint32_t(f.primary.size());
+    auto add = [&](const RayGroup& g, const GroupResult& r) {
+        TraceGroup tg;
+        tg.kind = g.kind;
+        tg.n = g.n;
+        tg.px = g.px;
+        tg.py = g.py;
+        tg.origin = g.origin;
+        tg.tmax = g.tmax;
+        tg.row_valid = g.row_valid;
+        tg.col_valid = g.col_valid;
+        tg.planes = g.planes;
+        tg.dirs.resize(std::size_t(g.n) * g.n);
+        for (std::uint32_t v = 0; v < g.n; ++v)
+            for (std::uint32_t h = 0; h < g.n; ++h) tg.dirs[v * g.n + h] = group_ray(g, h, v).d;
+        tg.sphere_hits = r.sphere_list;
+        tg.counts = r.counts;
+        tg.hits = r.hits;
+        t.groups.push_back(std::move(tg));
+    };
+    for (std::size_t i = 0; i < f.primary.size(); ++i) add(f.primary[i], f.primary_results.at(i));
+    for (std::size_t i = 0; i < f.shadow.size(); ++i) add(f.shadow[i], f.shadow_results.at(i));
+    return t;
+}
+
+std::string serialize_trace(const Trace& t) {
+    Writer w;
+    w.put_str(t.scene_name);
+    w.put_str(t.format.name());
+    w.put(t.width); w.put(t.height);
+    w.put(t.group_size); w.put(t.shadow_group_size); w.put(t.tris_per_sphere);
+    w.put(std::uint64_t(t.spheres.size()));
+    for (std::size_t i = 0; i < t.spheres.size(); ++i) {
+        w.put_vec(t.spheres[i].c);
+        w.put(t.spheres[i].r);
+        w.put(t.first_tri[i]);
+        w.put(t.tri_count[i]);
+    }
+    w.put(std::uint64_t(t.triangles.size()));
+    for (std::size_t i = 0; i < t.triangles.size(); ++i) {
+        const auto& tr = t.triangles[i];
+        w.put_vec(tr.v0); w.put_vec(tr.e1); w.put_vec(tr.e2); w.put_vec(tr.n);
+        w.put(t.tri_mesh_index[i]);
+    }
+    w.put(t.primary_groups);
+    w.put(std::uint64_t(t.groups.size()));
+    for (const auto& g : t.groups) {
+        w.put(std::uint8_t(g.kind));
+        w.put(g.n);
+        w.put(g.px); w.put(g.py);
+        w.put_vec(g.origin);
+        w.put(g.tmax);
+        w.put(g.row_valid); w.put(g.col_valid);
+        for (const auto& p : g.planes) { w.put_vec(p.n); w.put(p.w); }
+        for (const auto& d : g.dirs) w.put_vec(d);
+        w.put(g.counts.plane_tests); w.put(g.counts.sphere_hits); w.put(g.counts.rt_tests);
+        w.put(std::uint64_t(g.sphere_hits.size()));
+        const std::uint32_t mb = mask_bytes(g.n);
+        for (const auto& s : g.sphere_hits) { w.put(s.sphere); w.put_mask(s.rows, mb); w.put_mask(s.cols, mb); }
+        for (const auto& h : g.hits) { w.put(h.t); w.put(h.tri); }
+    }
+    std::string out(kMagic, sizeof kMagic);
+    Writer hdr;
+    hdr.put(kTraceVersion);
+    hdr.put(std::uint32_t(kHeaderBytes));
+    hdr.put(std::uint64_t(w.out.size()));
+    hdr.put(fnv1a(w.out.data(), w.out.size()));
+    out += hdr.out;
+    out += w.out;
+    return out;
+}
+
+Trace parse_trace(const std::string& bytes, const std::string& name) {
+    if (bytes.size() < kHeaderBytes) throw InputError(name + ": not a raplas trace (file too short)");
+    if (std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) throw InputError(name + ": not a raplas trace (bad magic)");
+    Reader r{bytes, sizeof kMagic, name};
+    auto version = r.get<std::uint32_t>();
+    if (version != kTraceVersion)
+        throw InputError(name + ": trace format version " + std::to_string(version) + ", this raplas reads version " +
+                         std::to_string(kTraceVersion) + " (regenerate it with 'raplas trace')");
+    auto header = r.get<std::uint32_t>();
+    auto payload = r.get<std::uint64_t>();
+    auto sum = r.get<std::uint64_t>();
+    if (header != kHeaderBytes) throw InputError(name + ": corrupt trace header");
+    if (bytes.size() - kHeaderBytes != payload)
+        throw InputError(name + ": truncated trace (" + std::to_string(bytes.size() - kHeaderBytes) + " of " +
+                         std::to_string(payload) + " payload bytes)");
+    if (fnv1a(bytes.data() + kHeaderBytes, payload) != sum) throw InputError(name + ": corrupt trace (checksum mismatch)");
+
+    Trace t;
+    t.scene_name = r.get_str();
+    try {
+        t.format = NumFormat::parse(r.get_str());
+    } catch (const std::invalid_argument& e) {
+        throw r.fail(e.what());
+    }
+    t.width = r.get<std::uint32_t>(); t.height = r.get<std::uint32_t>();
+    t.group_size = r.get<std::uint32_t>(); t.shadow_group_size = r.get<std::uint32_t>();
+    t.tris_per_sphere = r.get<std::uint32_t>();
+    auto ns = r.get_count(24);
+    t.spheres.resize(ns); t.first_tri.resize(ns); t.tri_count.resize(ns);
+    for (std::size_t i = 0; i < ns; ++i) {
+        t.spheres[i].c = r.get_vec();
+        t.spheres[i].r = r.get<float>();
+        t.first_tri[i] = r.get<std::uint32_t>();
+        t.tri_count[i] = r.get<std::uint32_t>();
+    }
+    auto nt = r.get_count(52);
+    t.triangles.resize(nt); t.tri_mesh_index.resize(nt);
+    for (std::size_t i = 0; i < nt; ++i) {
+        auto& tr = t.triangles[i];
+        tr.v0 = r.get_vec(); tr.e1 = r.get_vec(); tr.e2 = r.get_vec(); tr.n = r.get_vec();
+        t.tri_mesh_index[i] = r.get<std::int32_t>();
+    }
+    // Sphere Memory must tile Triangle Memory in order.
+    std::uint64_t next = 0;
+    for (std::size_t i = 0; i < ns; ++i) {
+        if (t.first_tri[i] != next || t.tri_count[i] == 0) throw r.fail("sphere " + std::to_string(i) + " does not follow its predecessor's triangles");
+        next += t.tri_count[i];
+    }
+    if (next != nt) throw r.fail("spheres cover " + std::to_string(next) + " of " + std::to_string(nt) + " triangles");
+    t.primary_groups = r.get<std::uint32_t>();
+    auto ng = r.get_count(32);
+    if (t.primary_groups > ng) throw r.fail("more primary groups than groups");
+    t.groups.resize(ng);
+    for (std::size_t gi = 0; gi < ng; ++gi) {
+        TraceGroup& g = t.groups[gi];
+        auto kind = r.get<std::uint8_t>();
+        if (kind > 1) throw r.fail("bad group kind");
+        g.kind = GroupKind(kind);
+        if ((gi < t.primary_groups) != (g.kind == GroupKind::primary)) throw r.fail("group kinds out of order");
+        g.n = r.get<std::uint32_t>();
+        if (g.n == 0 || g.n > 64) throw r.fail("group size " + std::to_string(g.n) + " not in 1..64");
+        g.px = r.get<std::int32_t>(); g.py = r.get<std::int32_t>();
+        g.origin = r.get_vec();
+        g.tmax = r.get<float>();
+        g.row_valid = r.get<std::uint64_t>(); g.col_valid = r.get<std::uint64_t>();
+        const std::uint64_t full = g.n == 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << g.n) - 1;
+        if ((g.row_valid & ~full) || (g.col_valid & ~full)) throw r.fail("validity mask wider than the group");
+        r.need(std::size_t(g.n) * 2 * 16);
+        g.planes.resize(2 * g.n);
+        for (auto& p : g.planes) { p.n = r.get_vec(); p.w = r.get<float>(); }
+        r.need(std::size_t(g.n) * g.n * 12);
+        g.dirs.resize(std::size_t(g.n) * g.n);
+        for (auto& d : g.dirs) d = r.get_vec();
+        g.counts.plane_tests = r.get<std::uint64_t>();
+        g.counts.sphere_hits = r.get<std::uint64_t>();
+        g.counts.rt_tests = r.get<std::uint64_t>();
+        const std::uint32_t mb = mask_bytes(g.n);
+        auto nh = r.get_count(4 + 2 * mb);
+        g.sphere_hits.resize(nh);
+        std::uint64_t rt = 0;
+        std::int64_t prev = -1;
+        for (auto& s : g.sphere_hits) {
+            s.sphere = r.get<std::uint32_t>();
+            s.rows = r.get_mask(mb);
+            s.cols = r.get_mask(mb);
+            if (s.sphere >= ns || std::int64_t(s.sphere) <= prev) throw r.fail("sphere hit list out of order or range");
+            if (!s.rows || !s.cols || (s.rows & ~g.row_valid) || (s.cols & ~g.col_valid)) throw r.fail("bad plane-hit mask");
+            prev = s.sphere;
+            rt += std::uint64_t(__builtin_popcountll(s.rows)) * std::uint64_t(__builtin_popcountll(s.cols)) * t.tri_count[s.sphere];
+        }
+        if (nh != g.counts.sphere_hits || rt != g.counts.rt_tests) throw r.fail("group counts disagree with its sphere hits");
+        r.need(std::size_t(g.n) * g.n * 12);
+        g.hits.resize(std::size_t(g.n) * g.n);
+        for (auto& h : g.hits) {
+            h.t = r.get<double>();
+            h.tri = r.get<std::int32_t>();
+            if (h.tri < -1 || h.tri >= std::int64_t(nt)) throw r.fail("hit triangle out of range");
+        }
+    }
+    if (r.pos != bytes.size()) throw r.fail("trailing bytes");
+    return t;
+}
+
+void write_trace(const std::string& path, const Trace& t) { write_file_atomically(path, serialize_trace(t)); }
+
+Trace read_trace(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path + ": cannot open trace: " + std::strerror(errno));
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return parse_trace(ss.str(), path);
+}
+
+}  // namespace raplas

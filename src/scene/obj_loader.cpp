@@ -1,0 +1,171 @@
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <tiny_obj_loader.h>
+
+#include "raplas/scene/mesh.hpp"
+#include "raplas/util/error.hpp"
+
+namespace raplas {
+
+Aabb Mesh::bounds() const {
+    Aabb b;
+    for (const auto& t : triangles)
+        for (auto i : t) b.grow(to_d(vertices[i]));
+    return b;
+}
+
+namespace {
+
+// A whole-token number: strtod must consume the token entirely.
+bool parse_number(const std::string& tok, double& out) {
+    if (tok.empty()) return false;
+    char* end = nullptr;
+    errno = 0;
+    out = std::strtod(tok.c_str(), &end);
+    return end == tok.c_str() + tok.size();
+}
+
+bool parse_index(const std::string& tok, long& out) {
+    if (tok.empty()) return false;
+    char* end = nullptr;
+    errno = 0;
+    out = std::strtol(tok.c_str(), &end, 10);
+    return end == tok.c_str() + tok.size() && errno == 0;
+}
+
+// Line-numbered validation before tinyobjloader parses the file (which would
+// read "nan" as 0 or index out of range): every error names FILE:LINE.
+void validate_obj(const std::string& path, const std::string& text) {
+    if (text.empty()) throw InputError(path + ": empty OBJ file");
+    if (text.find('\0') != std::string::npos) throw InputError(path + ": not a text OBJ file (contains NUL bytes)");
+    long nv = 0, nvt = 0, nvn = 0, faces = 0;
+    std::istringstream in(text);
+    std::string line;
+    long lineno = 0;
+    while (std::getline(in, line)) {
+        ++lineno;
+        auto where = [&] { return path + ":" + std::to_string(lineno) + ": "; };
+        std::istringstream ls(line);
+        std::string kw;
+        if (!(ls >> kw) || kw[0] == '#') continue;
+        if (kw == "v" || kw == "vt" || kw == "vn") {
+            std::string tok;
+            int n = 0;
+            int need = kw == "vt" ? 1 : 3;
+            while (n < 3 && ls >> tok) {
+                double x;
+                if (!parse_number(tok, x))
+                    throw InputError(where() + "'" + kw + "' expects numbers, got '" + tok + "'");
+                if (!std::isfinite(x) || std::fabs(x) > 3.0e38)
+                    throw InputError(where() + "'" + kw + "' coordinate '" + tok + "' is not a finite float");
+                ++n;
+            }
+            if (n < need)
+                throw InputError(where() + "'" + kw + "' needs " + std::to_string(need) + " coordinates, got " +
+                                 std::to_string(n));
+            (kw == "v" ? nv : kw == "vt" ? nvt : nvn)++;
+        } else if (kw == "f") {
+            std::string tok;
+            int n = 0;
+            while (ls >> tok) {
+                long idx[3] = {0, 0, 0};
+                bool present[3] = {false, false, false};
+                std::size_t start = 0;
+                for (int k = 0; k < 3 && start <= tok.size(); ++k) {
+                    auto slash = tok.find('/', start);
+                    std::string part = tok.substr(start, slash == std::string::npos ? std::string::npos : slash - start);
+                    if (!part.empty()) {
+                        if (!parse_index(part, idx[k]) || idx[k] == 0)
+                            throw InputError(where() + "bad face index '" + tok + "'");
+                        present[k] = true;
+                    } else if (k == 0) {
+                        throw InputError(where() + "bad face index '" + tok + "'");
+                    }
+                    if (slash == std::string::npos) break;
+                    start = slash + 1;
+                }
+                const long counts[3] = {nv, nvt, nvn};
+                const char* names[3] = {"vertex", "texture", "normal"};
+                for (int k = 0; k < 3; ++k) {
+                    if (!present[k]) continue;
+                    long i = idx[k];
+                    if ((i > 0 && i > counts[k]) || (i < 0 && -i > counts[k]))
+                        throw InputError(where() + std::string(names[k]) + " index " + std::to_string(i) +
+                                         " is out of range (" + std::to_string(counts[k]) + " defined so far)");
+                }
+                ++n;
+            }
+            if (n < 3) throw InputError(where() + "face has " + std::to_string(n) + " vertices; at least 3 needed");
+            ++faces;
+        }
+    }
+    if (faces == 0) throw InputError(path + ": no faces in OBJ file");
+}
+
+}  // namespace
+
+Mesh load_obj(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path + ": cannot open OBJ file: " + std::strerror(errno));
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const std::string text = ss.str();
+    validate_obj(path, text);
+
+    auto slash = path.find_last_of('/');
+    std::string dir = slash == std::string::npos ? "./" : path.substr(0, slash + 1);
+    tinyobj::attrib_t attrib;
+    std::vector<tinyobj::shape_t> shapes;
+    std::vector<tinyobj::material_t> materials;
+    std::string warn, err;
+    std::istringstream obj_stream(text);
+    tinyobj::MaterialFileReader mtl_reader(dir);
+    bool ok = tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &obj_stream, &mtl_reader, true, false);
+    if (!ok || !err.empty()) {
+        std::string first = err.substr(0, err.find('\n'));
+        throw InputError(path + ": " + (first.empty() ? "cannot parse OBJ" : first));
+    }
+
+    Mesh m;
+    m.source = path;
+    m.materials.push_back(Material{});
+    for (const auto& mt : materials) {
+        Material mm;
+        mm.name = mt.name;
+        mm.diffuse = Vec3f(float(mt.diffuse[0]), float(mt.diffuse[1]), float(mt.diffuse[2]));
+        mm.emission = Vec3f(float(mt.emission[0]), float(mt.emission[1]), float(mt.emission[2]));
+        if (!all_finite(mm.diffuse) || !all_finite(mm.emission))
+            throw InputError(path + ": material '" + mt.name + "' has a non-finite colour");
+        m.materials.push_back(mm);
+    }
+    m.vertices.reserve(attrib.vertices.size() / 3);
+    for (std::size_t i = 0; i + 2 < attrib.vertices.size(); i += 3)
+        m.vertices.emplace_back(float(attrib.vertices[i]), float(attrib.vertices[i + 1]), float(attrib.vertices[i + 2]));
+    for (const auto& sh : shapes) {
+        std::size_t off = 0;
+        for (std::size_t f = 0; f < sh.mesh.num_face_vertices.size(); ++f) {
+            std::size_t fv = sh.mesh.num_face_vertices[f];
+            if (fv == 3) {
+                std::array<std::uint32_t, 3> tri{};
+                for (std::size_t k = 0; k < 3; ++k) {
+                    int vi = sh.mesh.indices[off + k].vertex_index;
+                    if (vi < 0 || static_cast<std::size_t>(vi) >= m.vertices.size())
+                        throw InputError(path + ": face index out of range in shape '" + sh.name + "'");
+                    tri[k] = static_cast<std::uint32_t>(vi);
+                }
+                m.triangles.push_back(tri);
+                int mat = f < sh.mesh.material_ids.size() ? sh.mesh.material_ids[f] : -1;
+                m.triangle_material.push_back(mat >= 0 && static_cast<std::size_t>(mat) < materials.size() ? mat + 1 : 0);
+            }
+            off += fv;
+        }
+    }
+    if (m.triangles.empty()) throw InputError(path + ": no triangles after triangulation");
+    return m;
+}
+
+}  // namespace raplas

@@ -1,0 +1,209 @@
+#include "raplas/scene/scene.hpp"
+
+#include <sys/stat.h>
+
+#include <cmath>
+#include <cstdlib>
+
+#include "raplas/util/error.hpp"
+
+#ifndef RAPLAS_SOURCE_DIR
+#define RAPLAS_SOURCE_DIR "."
+#endif
+
+namespace raplas {
+
+ParamSet scene_params() {
+    ParamSet p("scene");
+    p.add_string("name", std::string("scene"), "scene name used in reports");
+    p.add_string("mesh", std::nullopt, "OBJ file; relative paths resolve via the scene search path; unset = built-in scene");
+    p.add_bool("floor", false, "add a floor quad under the mesh (2 triangles appended after the mesh's)");
+    p.add_int("builtin_detail", 3, 0, 6, "tessellation level of the built-in scene's spheres");
+    p.add_vec3("camera.eye", std::nullopt, "camera position (unset = automatic framing)");
+    p.add_vec3("camera.look_at", std::nullopt, "point the camera looks at (unset = automatic)");
+    p.add_vec3("camera.up", Vec3d(0, 1, 0), "camera up direction");
+    p.add_real("camera.fov_deg", 40.0, 1.0, 170.0, "vertical field of view, degrees");
+    p.add_vec3("light.corner", std::nullopt, "area light corner (unset = automatic light above the mesh)");
+    p.add_vec3("light.edge_u", std::nullopt, "area light first edge; the light emits toward edge_u x edge_v");
+    p.add_vec3("light.edge_v", std::nullopt, "area light second edge");
+    p.add_vec3("light.emission", Vec3d(1, 1, 1), "light colour (scales the direct term)");
+    p.add_int("image.width", 64, 1, 16384, "image width, pixels");
+    p.add_int("image.height", 64, 1, 16384, "image height, pixels");
+    p.add_int("groups.size", 16, 1, 64, "N: primary ray groups are N x N pixel tiles (2N ray-planes)");
+    p.add_int("groups.shadow_size", 16, 1, 64, "shadow ray groups: N x N samples on the area light");
+    p.add_int("spheres.triangles_per_sphere", 2, 1, 64, "K: at most K triangles per bounding sphere");
+    p.add_string("spheres.method", std::string("median-split"), "how triangles are grouped into spheres",
+                 {"median-split", "file-order"});
+    p.add_real("shading.ambient", 0.15, 0.0, 1.0, "ambient term of the Lambert shading");
+    p.add_real("shading.shadow_offset", 1e-4, 0.0, 0.1,
+               "shadow ray origin offset along the normal, as a fraction of the scene diagonal");
+    return p;
+}
+
+namespace {
+bool is_file(const std::string& p) {
+    struct stat st{};
+    return ::stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+}
+}  // namespace
+
+std::vector<std::string> scene_search_path(const std::string& scene_dir) {
+    std::vector<std::string> dirs;
+    if (!scene_dir.empty()) dirs.push_back(scene_dir);
+    dirs.push_back(".");
+    if (const char* env = std::getenv("RAPLAS_SCENE_PATH")) {
+        std::string s = env;
+        std::size_t start = 0;
+        while (start <= s.size()) {
+            auto colon = s.find(':', start);
+            std::string d = s.substr(start, colon == std::string::npos ? std::string::npos : colon - start);
+            if (!d.empty()) dirs.push_back(d);
+            if (colon == std::string::npos) break;
+            start = colon + 1;
+        }
+    }
+    dirs.push_back("../shared/scenes");
+    if (!scene_dir.empty()) dirs.push_back(scene_dir + "/../../shared/scenes");
+    dirs.push_back(std::string(RAPLAS_SOURCE_DIR) + "/../shared/scenes");
+    return dirs;
+}
+
+std::string resolve_mesh_path(const std::string& mesh, const std::string& scene_dir) {
+    if (!mesh.empty() && mesh[0] == '/') return mesh;
+    for (const auto& d : scene_search_path(scene_dir)) {
+        std::string cand = d + "/" + mesh;
+        if (is_file(cand)) return cand;
+    }
+    std::string tried;
+    for (const auto& d : scene_search_path(scene_dir)) tried += (tried.empty() ? "" : ", ") + d;
+    throw InputError("mesh '" + mesh + "' not found (searched: " + tried + ")");
+}
+
+Camera auto_camera(const Mesh& m, double fov_deg) {
+    Aabb b = m.bounds();
+    Vec3d c = b.center();
+    double r = std::max(length(b.extent()) * 0.5, 1e-6);
+    Camera cam;
+    cam.look_at = c;
+    cam.up = {0, 1, 0};
+    cam.fov_deg = fov_deg;
+    Vec3d dir = normalize(Vec3d(0.45, 0.35, 1.0));
+    double dist = r / std::sin(fov_deg * M_PI / 360.0) * 1.02;
+    cam.eye = c + dir * dist;
+    return cam;
+}
+
+AreaLight auto_light(const Mesh& m) {
+    Aabb b = m.bounds();
+    Vec3d c = b.center();
+    double r = std::max(length(b.extent()) * 0.5, 1e-6);
+    AreaLight l;
+    Vec3d center = c + Vec3d(-0.6 * r, 2.0 * r, 0.9 * r);
+    l.edge_u = {0.8 * r, 0, 0};
+    l.edge_v = {0, 0, 0.8 * r};  // u x v points down (-y)
+    l.corner = center - l.edge_u * 0.5 - l.edge_v * 0.5;
+    return l;
+}
+
+void add_floor(Mesh& m) {
+    Aabb b = m.bounds();
+    Vec3d c = b.center();
+    double r = std::max(length(b.extent()) * 0.5, 1e-6);
+    float y = float(b.lo.y - 1e-3 * r);
+    float x0 = float(c.x - 3 * r), x1 = float(c.x + 3 * r), z0 = float(c.z - 3 * r), z1 = float(c.z + 3 * r);
+    Material mt;
+    mt.name = "floor";
+    mt.diffuse = {0.8f, 0.8f, 0.8f};
+    m.materials.push_back(mt);
+    auto mat = static_cast<std::int32_t>(m.materials.size() - 1);
+    auto base = static_cast<std::uint32_t>(m.vertices.size());
+    m.vertices.push_back({x0, y, z0});
+    m.vertices.push_back({x0, y, z1});
+    m.vertices.push_back({x1, y, z1});
+    m.vertices.push_back({x1, y, z0});
+    m.triangles.push_back({base, base + 1, base + 2});
+    m.triangles.push_back({base, base + 2, base + 3});
+    m.triangle_material.push_back(mat);
+    m.triangle_material.push_back(mat);
+}
+
+Scene scene_from_params(const ParamSet& p, const std::string& mesh_override) {
+    Scene s;
+    s.name = p.get_string("name");
+    std::string mesh = mesh_override.empty() ? p.get_string("mesh") : mesh_override;
+    const bool builtin = mesh.empty();
+    if (!mesh_override.empty()) {
+        s.mesh = load_obj(mesh_override);
+        if (!p.is_given("name")) {
+            std::string base = mesh_override.substr(mesh_override.find_last_of('/') + 1);
+            s.name = base.substr(0, base.find_last_of('.'));
+        }
+    } else if (!mesh.empty()) {
+        s.mesh = load_obj(resolve_mesh_path(mesh, p.file_dir()));
+    } else {
+        s.mesh = builtin_mesh(static_cast<int>(p.get_int("builtin_detail")));
+        if (!p.is_given("name")) s.name = "builtin";
+    }
+    if (p.get_bool("floor")) add_floor(s.mesh);
+
+    auto eye = p.get_vec3("camera.eye"), at = p.get_vec3("camera.look_at");
+    if (eye.has_value() != at.has_value())
+        throw InputError(p.origin(eye ? "camera.eye" : "camera.look_at") +
+                         ": camera.eye and camera.look_at must be given together");
+    double fov = p.get_real("camera.fov_deg");
+    if (eye) {
+        s.camera.eye = *eye;
+        s.camera.look_at = *at;
+        s.camera.fov_deg = fov;
+        s.camera.up = *p.get_vec3("camera.up");
+        if (length(s.camera.eye - s.camera.look_at) <= 0)
+            throw InputError(p.origin("camera.eye") + ": camera.eye equals camera.look_at");
+        if (length(cross(s.camera.eye - s.camera.look_at, s.camera.up)) <= 1e-12 * length(s.camera.eye - s.camera.look_at))
+            throw InputError(p.origin("camera.up") + ": camera.up is parallel to the view direction");
+    } else if (builtin) {
+        s.camera = {{3.2, 2.6, 5.2}, {0.0, 0.7, -0.4}, {0, 1, 0}, fov};
+    } else {
+        s.camera = auto_camera(s.mesh, fov);
+        s.camera_auto = true;
+    }
+    auto lc = p.get_vec3("light.corner"), lu = p.get_vec3("light.edge_u"), lv = p.get_vec3("light.edge_v");
+    if (lc || lu || lv) {
+        if (!(lc && lu && lv))
+            throw InputError("scene: light.corner, light.edge_u and light.edge_v must be given together");
+        s.light.corner = *lc;
+        s.light.edge_u = *lu;
+        s.light.edge_v = *lv;
+        if (length(cross(*lu, *lv)) <= 0) throw InputError(p.origin("light.edge_u") + ": light edges are parallel or zero");
+    } else if (builtin) {
+        s.light.corner = {-1.5, 4.0, -0.5};
+        s.light.edge_u = {1.2, 0, 0};
+        s.light.edge_v = {0, 0, 1.2};
+    } else {
+        s.light = auto_light(s.mesh);
+        s.light_auto = true;
+    }
+    s.light.emission = *p.get_vec3("light.emission");
+    s.width = static_cast<int>(p.get_int("image.width"));
+    s.height = static_cast<int>(p.get_int("image.height"));
+    if (static_cast<long long>(s.width) * s.height > 64LL * 1024 * 1024)
+        throw InputError(p.origin("image.width") + ": image of " + std::to_string(s.width) + "x" +
+                         std::to_string(s.height) + " pixels exceeds the limit of 64 Mpixel");
+    s.group_size = static_cast<int>(p.get_int("groups.size"));
+    s.shadow_group_size = static_cast<int>(p.get_int("groups.shadow_size"));
+    s.tris_per_sphere = static_cast<int>(p.get_int("spheres.triangles_per_sphere"));
+    s.sphere_method = p.get_string("spheres.method");
+    s.ambient = p.get_real("shading.ambient");
+    s.shadow_offset = p.get_real("shading.shadow_offset");
+    return s;
+}
+
+Scene load_scene(const SceneRequest& req) {
+    if (!req.scene_file.empty() && !req.mesh_file.empty())
+        throw InputError("give either --scene or --mesh, not both");
+    ParamSet p = scene_params();
+    if (!req.scene_file.empty()) p.load_file(req.scene_file);
+    for (const auto& o : req.overrides) p.set(o);
+    return scene_from_params(p, req.mesh_file);
+}
+
+}  // namespace raplas

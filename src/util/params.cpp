@@ -1,0 +1,315 @@
+#include "raplas/util/params.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <toml++/toml.h>
+
+#include "raplas/util/error.hpp"
+
+namespace raplas {
+
+namespace {
+
+const char* type_name(ParamSet::Type t) {
+    switch (t) {
+        case ParamSet::Type::Int: return "an integer";
+        case ParamSet::Type::Real: return "a number";
+        case ParamSet::Type::Bool: return "true or false";
+        case ParamSet::Type::String: return "a string";
+        case ParamSet::Type::Vec3: return "an array of 3 numbers";
+    }
+    return "?";
+}
+
+std::string fmt_real(double d) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.17g", d);
+    std::string s = buf;
+    // shortest text that reads back to the same double
+    for (int prec = 1; prec < 17; ++prec) {
+        std::snprintf(buf, sizeof buf, "%.*g", prec, d);
+        if (std::strtod(buf, nullptr) == d) { s = buf; break; }
+    }
+    if (s.find_first_of(".eEn") == std::string::npos) s += ".0";
+    return s;
+}
+
+std::string quote(const std::string& s) {
+    std::string out = "\"";
+    for (char c : s) {
+        if (c == '"' || c == '\\') { out += '\\'; out += c; }
+        else if (c == '\n') out += "\\n";
+        else if (c == '\t') out += "\\t";
+        else out += c;
+    }
+    return out + "\"";
+}
+
+std::string where_of(const std::string& origin, const toml::node& n) {
+    const auto& src = n.source();
+    if (src.begin.line > 0) return origin + ":" + std::to_string(src.begin.line);
+    return origin;
+}
+
+void flatten(const toml::table& tbl, const std::string& prefix,
+             std::vector<std::pair<std::string, const toml::node*>>& out) {
+    for (auto&& [k, v] : tbl) {
+        std::string key = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
+        if (const toml::table* sub = v.as_table()) flatten(*sub, key, out);
+        else out.emplace_back(key, &v);
+    }
+}
+
+}  // namespace
+
+ParamSet::Decl& ParamSet::declare(const std::string& key, Type type, const std::string& desc) {
+    if (decls_.count(key)) throw std::logic_error("parameter declared twice: " + key);
+    Decl& d = decls_[key];
+    d.type = type;
+    d.desc = desc;
+    order_.push_back(key);
+    return d;
+}
+
+ParamSet& ParamSet::add_int(const std::string& key, std::int64_t def, std::int64_t min, std::int64_t max,
+                            const std::string& desc) {
+    Decl& d = declare(key, Type::Int, desc);
+    d.def.present = true;
+    d.def.i = def;
+    d.min = static_cast<double>(min);
+    d.max = static_cast<double>(max);
+    d.cur = d.def;
+    return *this;
+}
+
+ParamSet& ParamSet::add_real(const std::string& key, double def, double min, double max, const std::string& desc) {
+    Decl& d = declare(key, Type::Real, desc);
+    d.def.present = true;
+    d.def.d = def;
+    d.min = min;
+    d.max = max;
+    d.cur = d.def;
+    return *this;
+}
+
+ParamSet& ParamSet::add_bool(const std::string& key, bool def, const std::string& desc) {
+    Decl& d = declare(key, Type::Bool, desc);
+    d.def.present = true;
+    d.def.b = def;
+    d.cur = d.def;
+    return *this;
+}
+
+ParamSet& ParamSet::add_string(const std::string& key, std::optional<std::string> def, const std::string& desc,
+                               std::vector<std::string> choices) {
+    Decl& d = declare(key, Type::String, desc);
+    d.def.present = def.has_value();
+    if (def) d.def.s = *def;
+    d.choices = std::move(choices);
+    d.cur = d.def;
+    return *this;
+}
+
+ParamSet& ParamSet::add_vec3(const std::string& key, std::optional<Vec3d> def, const std::string& desc) {
+    Decl& d = declare(key, Type::Vec3, desc);
+    d.def.present = def.has_value();
+    if (def) d.def.v = *def;
+    d.cur = d.def;
+    return *this;
+}
+
+void ParamSet::assign(const std::string& key, const void* node_ptr, const std::string& where) {
+    const toml::node& n = *static_cast<const toml::node*>(node_ptr);
+    auto it = decls_.find(key);
+    if (it == decls_.end()) {
+        std::string known;
+        for (const auto& k : order_) known += (known.empty() ? "" : ", ") + k;
+        throw InputError(where + ": unknown " + what_ + " key '" + key + "' (known keys: " + known + ")");
+    }
+    Decl& d = it->second;
+    Value v;
+    v.present = true;
+    auto bad = [&](const std::string& why) {
+        return InputError(where + ": " + what_ + " key '" + key + "' " + why);
+    };
+    switch (d.type) {
+        case Type::Int: {
+            auto x = n.value_exact<std::int64_t>();
+            if (!x) throw bad(std::string("must be ") + type_name(d.type));
+            if (static_cast<double>(*x) < d.min || static_cast<double>(*x) > d.max)
+                throw bad("= " + std::to_string(*x) + " is out of range [" + std::to_string(std::int64_t(d.min)) +
+                          ", " + std::to_string(std::int64_t(d.max)) + "]");
+            v.i = *x;
+            break;
+        }
+        case Type::Real: {
+            auto x = n.value<double>();
+            if (!x || (!n.is_floating_point() && !n.is_integer())) throw bad(std::string("must be ") + type_name(d.type));
+            if (!std::isfinite(*x)) throw bad("must be finite");
+            if (*x < d.min || *x > d.max)
+                throw bad("= " + fmt_real(*x) + " is out of range [" + fmt_real(d.min) + ", " + fmt_real(d.max) + "]");
+            v.d = *x;
+            break;
+        }
+        case Type::Bool: {
+            auto x = n.value_exact<bool>();
+            if (!x) throw bad(std::string("must be ") + type_name(d.type));
+            v.b = *x;
+            break;
+        }
+        case Type::String: {
+            auto x = n.value_exact<std::string>();
+            if (!x) throw bad(std::string("must be ") + type_name(d.type));
+            if (!d.choices.empty()) {
+                bool ok = false;
+                std::string list;
+                for (const auto& c : d.choices) {
+                    ok = ok || c == *x;
+                    list += (list.empty() ? "" : ", ") + c;
+                }
+                if (!ok) throw bad("= '" + *x + "' is not one of: " + list);
+            }
+            v.s = *x;
+            break;
+        }
+        case Type::Vec3: {
+            const toml::array* arr = n.as_array();
+            if (!arr || arr->size() != 3) throw bad(std::string("must be ") + type_name(d.type));
+            for (std::size_t i = 0; i < 3; ++i) {
+                auto x = (*arr)[i].value<double>();
+                if (!x || !((*arr)[i].is_number())) throw bad(std::string("must be ") + type_name(d.type));
+                if (!std::isfinite(*x)) throw bad("must have finite components");
+                v.v[i] = *x;
+            }
+            break;
+        }
+    }
+    d.cur = v;
+    d.given = true;
+    d.origin = where;
+}
+
+void ParamSet::load_text(const std::string& text, const std::string& origin) {
+    toml::table tbl;
+    try {
+        tbl = toml::parse(text, origin);
+    } catch (const toml::parse_error& e) {
+        std::string line = e.source().begin.line ? ":" + std::to_string(e.source().begin.line) : "";
+        std::string desc(e.description());
+        throw InputError(origin + line + ": invalid TOML: " + desc);
+    }
+    std::vector<std::pair<std::string, const toml::node*>> leaves;
+    flatten(tbl, "", leaves);
+    for (const auto& [key, node] : leaves) assign(key, node, where_of(origin, *node));
+}
+
+void ParamSet::load_file(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path + ": cannot open " + what_ + " file");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    std::string text = ss.str();
+    if (text.find('\0') != std::string::npos) throw InputError(path + ": not a text file (NUL byte)");
+    auto slash = path.find_last_of('/');
+    file_dir_ = slash == std::string::npos ? "." : path.substr(0, slash);
+    load_text(text, path);
+}
+
+void ParamSet::set(const std::string& assignment) {
+    auto eq = assignment.find('=');
+    if (eq == std::string::npos || eq == 0)
+        throw InputError("--set '" + assignment + "': expected key=value");
+    std::string key = assignment.substr(0, eq);
+    std::string value = assignment.substr(eq + 1);
+    while (!key.empty() && key.back() == ' ') key.pop_back();
+    if (!decls_.count(key)) {
+        std::string known;
+        for (const auto& k : order_) known += (known.empty() ? "" : ", ") + k;
+        throw InputError("--set: unknown " + what_ + " key '" + key + "' (known keys: " + known + ")");
+    }
+    toml::table tbl;
+    try {
+        tbl = toml::parse("v = " + value);
+    } catch (const toml::parse_error&) {
+        tbl = toml::table{};
+        tbl.insert("v", value);  // a bare word is a string
+    }
+    assign(key, tbl.get("v"), "--set " + key);
+}
+
+const ParamSet::Decl& ParamSet::get(const std::string& key, Type type) const {
+    auto it = decls_.find(key);
+    if (it == decls_.end() || it->second.type != type)
+        throw std::logic_error("parameter not declared with this type: " + key);
+    return it->second;
+}
+
+std::int64_t ParamSet::get_int(const std::string& key) const { return get(key, Type::Int).cur.i; }
+double ParamSet::get_real(const std::string& key) const { return get(key, Type::Real).cur.d; }
+bool ParamSet::get_bool(const std::string& key) const { return get(key, Type::Bool).cur.b; }
+std::string ParamSet::get_string(const std::string& key) const {
+    const Decl& d = get(key, Type::String);
+    if (!d.cur.present) return {};
+    return d.cur.s;
+}
+std::optional<Vec3d> ParamSet::get_vec3(const std::string& key) const {
+    const Decl& d = get(key, Type::Vec3);
+    if (!d.cur.present) return std::nullopt;
+    return d.cur.v;
+}
+bool ParamSet::is_given(const std::string& key) const {
+    auto it = decls_.find(key);
+    return it != decls_.end() && it->second.given;
+}
+std::string ParamSet::origin(const std::string& key) const {
+    auto it = decls_.find(key);
+    return it == decls_.end() ? "" : it->second.origin;
+}
+std::vector<std::string> ParamSet::keys() const { return order_; }
+const std::string& ParamSet::description(const std::string& key) const { return decls_.at(key).desc; }
+
+std::string ParamSet::dump() const {
+    // Top-level keys first, then one [section] per prefix, in declaration order.
+    std::vector<std::string> sections;
+    std::map<std::string, std::vector<std::string>> by_section;
+    for (const auto& k : order_) {
+        auto dot = k.find('.');
+        std::string sec = dot == std::string::npos ? "" : k.substr(0, dot);
+        if (!by_section.count(sec)) sections.push_back(sec);
+        by_section[sec].push_back(k);
+    }
+    std::ostringstream out;
+    bool first = true;
+    auto emit_section = [&](const std::string& sec) {
+        if (!sec.empty()) out << (first ? "" : "\n") << "[" << sec << "]\n";
+        first = false;
+        for (const auto& k : by_section[sec]) {
+            const Decl& d = decls_.at(k);
+            std::string name = sec.empty() ? k : k.substr(sec.size() + 1);
+            out << "# " << d.desc << "\n";
+            if (!d.cur.present) {
+                out << "# " << name << " = (auto)\n";
+                continue;
+            }
+            out << name << " = ";
+            switch (d.type) {
+                case Type::Int: out << d.cur.i; break;
+                case Type::Real: out << fmt_real(d.cur.d); break;
+                case Type::Bool: out << (d.cur.b ? "true" : "false"); break;
+                case Type::String: out << quote(d.cur.s); break;
+                case Type::Vec3:
+                    out << "[" << fmt_real(d.cur.v.x) << ", " << fmt_real(d.cur.v.y) << ", " << fmt_real(d.cur.v.z) << "]";
+                    break;
+            }
+            out << "\n";
+        }
+    };
+    if (by_section.count("")) emit_section("");
+    for (const auto& s : sections)
+        if (!s.empty()) emit_section(s);
+    return out.str();
+}
+
+}  // namespace raplas
