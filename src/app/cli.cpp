@@ -1,5 +1,7 @@
 #include "raplas/app/cli.hpp"
 
+#include "commands.hpp"
+
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
@@ -22,47 +24,6 @@ namespace {
 double since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
-
-// Options every front-end command shares: what scene, which overrides.
-struct SceneOptions {
-    std::string scene, mesh, format = "float32";
-    std::vector<std::string> sets;
-    unsigned threads = 0;
-    bool dump_scene = false;
-    bool quiet = false;
-
-    void add_to(CLI::App* cmd) {
-        cmd->add_option("--scene", scene, "scene file (TOML, see docs/SCENES.md); default: the built-in scene");
-        cmd->add_option("--mesh", mesh, "any OBJ file, framed and lit automatically");
-        cmd->add_option("--set", sets, "override a scene key, e.g. --set image.width=128 (repeatable)");
-        cmd->add_option("--format", format, "number format of the intersection tests: float32, float64, fp1-E-M[-rtz]");
-        cmd->add_option("--threads", threads, "worker threads (default: all cores)");
-        cmd->add_flag("--dump-scene", dump_scene, "print the resolved scene as TOML and exit");
-        cmd->add_flag("-q,--quiet", quiet, "no summary on stdout");
-    }
-    NumFormat parsed_format() const {
-        try {
-            return NumFormat::parse(format);
-        } catch (const std::invalid_argument& e) {
-            throw InputError(std::string("--format: ") + e.what());
-        }
-    }
-    // Returns false when --dump-scene printed the scene.
-    bool load(Scene& out, double& load_s) const {
-        auto t0 = std::chrono::steady_clock::now();
-        if (!scene.empty() && !mesh.empty()) throw InputError("give either --scene or --mesh, not both");
-        ParamSet p = scene_params();
-        if (!scene.empty()) p.load_file(scene);
-        for (const auto& s : sets) p.set(s);
-        if (dump_scene) {
-            std::cout << p.dump();
-            return false;
-        }
-        out = scene_from_params(p, mesh);
-        load_s = since(t0);
-        return true;
-    }
-};
 
 int cmd_render(const SceneOptions& so, const std::string& out_png, const std::string& heatmap,
                const std::string& hits, const std::string& json) {
@@ -122,6 +83,41 @@ int cmd_trace(const SceneOptions& so, const std::string& out, const std::string&
 
 }  // namespace
 
+void SceneOptions::add_to(CLI::App* cmd, bool with_format) {
+    cmd->add_option("--scene", scene, "scene file (TOML, see docs/SCENES.md); default: the built-in scene");
+    cmd->add_option("--mesh", mesh, "any OBJ file, framed and lit automatically");
+    cmd->add_option("--set", sets, "override a scene key, e.g. --set image.width=128 (repeatable)");
+    if (with_format)
+        cmd->add_option("--format", format, "number format of the intersection tests: float32, float64, fp1-E-M[-rtz]");
+    cmd->add_option("--threads", threads, "worker threads of the front end (default: all cores)");
+    cmd->add_flag("--dump-scene", dump_scene, "print the resolved scene as TOML and exit");
+    cmd->add_flag("-q,--quiet", quiet, "no summary on stdout");
+}
+
+NumFormat SceneOptions::parsed_format() const {
+    try {
+        return NumFormat::parse(format);
+    } catch (const std::invalid_argument& e) {
+        throw InputError(std::string("--format: ") + e.what());
+    }
+}
+
+bool SceneOptions::load(Scene& out, double& load_s, const std::function<void(ParamSet&)>& adjust) const {
+    auto t0 = std::chrono::steady_clock::now();
+    if (!scene.empty() && !mesh.empty()) throw InputError("give either --scene or --mesh, not both");
+    ParamSet p = scene_params();
+    if (!scene.empty()) p.load_file(scene);
+    for (const auto& s : sets) p.set(s);
+    if (adjust) adjust(p);
+    if (dump_scene) {
+        std::cout << p.dump();
+        return false;
+    }
+    out = scene_from_params(p, mesh);
+    load_s = since(t0);
+    return true;
+}
+
 int run_cli(int argc, char** argv) {
     CLI::App app{"raplas: cycle-accurate simulator of the RAPLAS ray-tracing accelerator (Kaeriyama et al., ICCD 2007)"};
     app.set_version_flag("--version", std::string("raplas ") + RAPLAS_VERSION);
@@ -143,6 +139,10 @@ int run_cli(int argc, char** argv) {
     trace->add_option("-o,--out", trace_out, "trace file")->required();
     trace->add_option("--json", trace_json, "counts and per-phase wall time as JSON");
 
+    SimulateArgs sim;
+    auto* simulate = app.add_subcommand("simulate", "run the front end and the cycle-accurate SystemC model");
+    add_simulate_options(simulate, sim);
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -158,6 +158,7 @@ int run_cli(int argc, char** argv) {
     try {
         if (render->parsed()) return cmd_render(render_so, out_png, heatmap, hits, json);
         if (trace->parsed()) return cmd_trace(trace_so, trace_out, trace_json);
+        if (simulate->parsed()) return cmd_simulate(sim);
     } catch (const InputError& e) {
         std::cerr << "raplas: error: " << e.what() << "\n";
         return kExitInputError;

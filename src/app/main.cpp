@@ -1,3 +1,12 @@
+#include <cstdlib>
+
 #include "raplas/app/cli.hpp"
 
-int main(int argc, char** argv) { return raplas::run_cli(argc, argv); }
+// libsystemc.so brings its own main() that calls sc_main(); ours takes
+// precedence, and sc_main leads to the same place should it ever be used.
+extern "C" int sc_main(int argc, char** argv) { return raplas::run_cli(argc, argv); }
+
+int main(int argc, char** argv) {
+    ::setenv("SYSTEMC_DISABLE_COPYRIGHT_MESSAGE", "1", 0);
+    return raplas::run_cli(argc, argv);
+}

@@ -29,7 +29,7 @@ Vec3f shadow_origin(const Scene& scene, const SphereSet& s, const Ray& r, const 
     Vec3d x = to_d(r.o) + d * h.t;
     Vec3d nrm = normalize(to_d(tr.n));
     if (dot(nrm, d) > 0) nrm = -nrm;
-    double diag = length(scene.mesh.bounds().extent());
+    const double diag = scene.diagonal > 0 ? scene.diagonal : length(scene.mesh.bounds().extent());
     return to_f(x + nrm * (scene.shadow_offset * diag));
 }
 

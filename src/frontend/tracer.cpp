@@ -15,11 +15,10 @@ struct ImplT final : Tracer::Impl {
     using T = typename A::T;
     A a;
     const SphereSet& s;
-    std::vector<SphereA<A>> spheres;
+    SphereSoA<A> spheres;
     std::vector<TriA<A>> tris;
 
     ImplT(A arith, const SphereSet& set) : a(arith), s(set) {
-        spheres.reserve(set.spheres.size());
         for (const auto& sp : set.spheres) spheres.push_back(load(a, sp));
         tris.reserve(set.triangles.size());
         for (const auto& t : set.triangles) tris.push_back(load(a, t));
@@ -43,20 +42,13 @@ struct ImplT final : Tracer::Impl {
         const std::uint64_t valid_planes =
             std::uint64_t(__builtin_popcountll(g.row_valid)) + std::uint64_t(__builtin_popcountll(g.col_valid));
         out.counts.plane_tests = valid_planes * spheres.size();
-        for (std::uint32_t si = 0; si < spheres.size(); ++si) {
-            const SphereA<A>& sp = spheres[si];
-            std::uint64_t rows = 0;
-            for (std::uint32_t v = 0; v < n; ++v)
-                rows |= std::uint64_t(plane_hits_sphere(a, planes[v], sp)) << v;
-            rows &= g.row_valid;
-            if (!rows) continue;
-            std::uint64_t cols = 0;
-            for (std::uint32_t h = 0; h < n; ++h)
-                cols |= std::uint64_t(plane_hits_sphere(a, planes[n + h], sp)) << h;
-            cols &= g.col_valid;
-            if (!cols) continue;
-            ++out.counts.sphere_hits;
-            if (record) out.sphere_list.push_back({si, rows, cols});
+        std::vector<SphereHitRec> local;
+        std::vector<SphereHitRec>& list = record ? out.sphere_list : local;
+        group_sphere_hits(a, planes.data(), n, g.row_valid, g.col_valid, spheres, list);
+        out.counts.sphere_hits = list.size();
+        for (const SphereHitRec& hit : list) {
+            const std::uint32_t si = hit.sphere;
+            const std::uint64_t rows = hit.rows, cols = hit.cols;
             const std::uint32_t t0 = s.first_tri[si], t1 = t0 + s.tri_count[si];
             out.counts.rt_tests += std::uint64_t(__builtin_popcountll(rows)) *
                                    std::uint64_t(__builtin_popcountll(cols)) * (t1 - t0);

@@ -145,6 +145,7 @@ Scene scene_from_params(const ParamSet& p, const std::string& mesh_override) {
         if (!p.is_given("name")) s.name = "builtin";
     }
     if (p.get_bool("floor")) add_floor(s.mesh);
+    s.diagonal = length(s.mesh.bounds().extent());
 
     auto eye = p.get_vec3("camera.eye"), at = p.get_vec3("camera.look_at");
     if (eye.has_value() != at.has_value())

@@ -4,7 +4,9 @@
 #pragma once
 
 #include <cmath>
+#include <algorithm>
 #include <cstdint>
+#include <vector>
 
 #include "raplas/core/numfmt.hpp"
 #include "raplas/core/vec.hpp"
@@ -97,6 +99,72 @@ template <class A>
 inline bool plane_hits_sphere(const A& a, const PlaneA<A>& p, const SphereA<A>& s) {
     auto d = a.add(a.add(a.add(a.mul(p.nx, s.cx), a.mul(p.ny, s.cy)), a.mul(p.nz, s.cz)), p.w);
     return std::fabs(d) <= s.r;  // |.| is a sign-bit clear: exact in every format
+}
+
+// Spheres of a format in structure-of-arrays layout, for the batched test below.
+template <class A> struct SphereSoA {
+    std::vector<typename A::T> cx, cy, cz, r;
+    std::size_t size() const { return r.size(); }
+    void push_back(const SphereA<A>& s) { cx.push_back(s.cx); cy.push_back(s.cy); cz.push_back(s.cz); r.push_back(s.r); }
+};
+
+// Eq. 1 for many spheres at once: bit p of masks[i] is set when plane p
+// (p < np <= 64) hits sphere first+i. Same operations in the same order as
+// plane_hits_sphere, laid out so the compiler can vectorise over spheres.
+template <class A, class Mask>
+inline void plane_masks(const A& a, const PlaneA<A>* planes, std::uint32_t np, const SphereSoA<A>& s,
+                        std::size_t first, std::size_t count, Mask* masks) {
+    using T = typename A::T;
+    const T* cx = s.cx.data() + first;
+    const T* cy = s.cy.data() + first;
+    const T* cz = s.cz.data() + first;
+    const T* r = s.r.data() + first;
+    for (std::size_t i = 0; i < count; ++i) masks[i] = 0;
+    for (std::uint32_t p = 0; p < np; ++p) {
+        const PlaneA<A> pl = planes[p];
+        for (std::size_t i = 0; i < count; ++i) {
+            const T d = a.add(a.add(a.add(a.mul(pl.nx, cx[i]), a.mul(pl.ny, cy[i])), a.mul(pl.nz, cz[i])), pl.w);
+            masks[i] |= Mask(std::fabs(d) <= r[i]) << p;
+        }
+    }
+}
+
+// A sphere hit by at least one valid row plane and one valid column plane.
+struct SphereHitRec {
+    std::uint32_t sphere;
+    std::uint64_t rows, cols;  // plane-hit masks (only valid planes can hit)
+};
+
+// Steps 5-6 decision for one ray group: every sphere whose row mask and
+// column mask are both non-empty, in sphere order. planes[0, n) are the row
+// planes, planes[n, 2n) the column planes.
+template <class A>
+inline void group_sphere_hits(const A& a, const PlaneA<A>* planes, std::uint32_t n, std::uint64_t row_valid,
+                              std::uint64_t col_valid, const SphereSoA<A>& s, std::vector<SphereHitRec>& out) {
+    constexpr std::size_t kChunk = 512;
+    out.clear();
+    auto run = [&](auto* rows) {  // 32-bit masks vectorise twice as wide when n <= 32
+        for (std::size_t first = 0; first < s.size(); first += kChunk) {
+            const std::size_t count = std::min(kChunk, s.size() - first);
+            plane_masks(a, planes, n, s, first, count, rows);
+            for (std::size_t i = 0; i < count; ++i) {
+                const std::uint64_t rm = std::uint64_t(rows[i]) & row_valid;
+                if (!rm) continue;
+                const SphereA<A> sp{s.cx[first + i], s.cy[first + i], s.cz[first + i], s.r[first + i]};
+                std::uint64_t cm = 0;
+                for (std::uint32_t h = 0; h < n; ++h) cm |= std::uint64_t(plane_hits_sphere(a, planes[n + h], sp)) << h;
+                cm &= col_valid;
+                if (cm) out.push_back({std::uint32_t(first + i), rm, cm});
+            }
+        }
+    };
+    if (n <= 32) {
+        std::uint32_t rows[kChunk];
+        run(rows);
+    } else {
+        std::uint64_t rows[kChunk];
+        run(rows);
+    }
 }
 
 // ---- Eq. 2: division-free ray-triangle test --------------------------------

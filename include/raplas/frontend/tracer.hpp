@@ -15,11 +15,6 @@
 
 namespace raplas {
 
-struct SphereHitRec {
-    std::uint32_t sphere;
-    std::uint64_t rows, cols;  // plane-hit masks (only valid planes can hit)
-};
-
 struct GroupCounts {
     std::uint64_t plane_tests = 0;  // spheres x planes of the group (valid planes)
     std::uint64_t sphere_hits = 0;  // spheres with a row and a column plane hit

@@ -1,0 +1,27 @@
+// Statistics of a simulation, written directly as JSON and CSV.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "top.hpp"
+
+namespace raplas {
+
+struct SimReportInput {
+    const model::SimResult* result = nullptr;
+    const model::SimConfig* config = nullptr;
+    const Trace* trace = nullptr;
+    std::string config_name;
+    std::string scene_name;
+    double frontend_wall_s = 0;
+};
+
+// Deterministic figures under their own keys; wall-clock figures only under "wall".
+nlohmann::json sim_json(const SimReportInput& in);
+// One flat row of the scalar figures (the sweep's columns).
+std::string sim_csv_header();
+std::string sim_csv_row(const nlohmann::json& j);
+std::string sim_summary(const nlohmann::json& j);
+
+}  // namespace raplas

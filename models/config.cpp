@@ -1,0 +1,76 @@
+#include "config.hpp"
+
+#include "raplas/util/error.hpp"
+
+namespace raplas::model {
+
+ParamSet machine_params() {
+    ParamSet p("config");
+    p.add_string("name", std::string("custom"), "configuration name used in reports");
+    p.add_int("machine.iccs", 1, 1, 4096, "number of Intersection Calculation Cores (ICCs)");
+    p.add_real("machine.clock_mhz", 400.0, 1.0, 100000.0, "clock frequency, MHz (time and bandwidth reports)");
+    p.add_int("icc.psi_pipes", 32, 1, 128, "Plane-Sphere Intersector pipes per ICC (paper: 32; FPGA ICC: 8)");
+    p.add_int("icc.psi_stages", 10, 1, 1000, "pipeline stages of a Plane-Sphere Intersector (paper: 10)");
+    p.add_int("icc.rti_pipes", 1, 1, 64, "Ray-Triangle Intersector pipes per ICC (paper: 1)");
+    p.add_int("icc.rti_stages", 25, 1, 1000, "pipeline stages of the Ray-Triangle Intersector (paper: 25)");
+    p.add_int("fifo.sphere_depth", 1000, 1, 100000000, "Sphere FIFO depth, records (paper: 10/100/1000)");
+    p.add_int("fifo.triangle_depth", 1000, 1, 100000000, "Triangle FIFO depth, records (paper: 10/100/1000)");
+    p.add_int("fifo.planeid_depth", 16, 1, 100000000,
+              "PlaneID FIFO and First-Triangle-ID FIFO depth, hit spheres (not in the paper)");
+    p.add_string("link.stall_policy", std::string("any_full"),
+                 "when the Triangle Stream Link stops: any_full = any Triangle FIFO full (paper §3.1); "
+                 "needed_full = only when an ICC that needs the triangle is full",
+                 {"any_full", "needed_full"});
+    p.add_int("link.sphere_record_bytes", 16, 1, 1024, "bytes per sphere record (paper: 6.4 GB/s at 400 MHz)");
+    p.add_int("link.triangle_record_bytes", 39, 1, 1024, "bytes per triangle record (paper: 15.6 GB/s at 400 MHz)");
+    p.add_int("link.result_bytes", 6, 1, 1024, "bytes per ray result on the Output Link (Min-distance Memory entry)");
+    p.add_int("host.pass_overhead_cycles", 0, 0, 100000000, "cycles added per pass (group load, result read-out)");
+    p.add_int("workload.group_size", 0, 0, 64, "primary ray group size N (0 = the scene's groups.size)");
+    p.add_int("workload.shadow_group_size", 0, 0, 64, "shadow ray group size (0 = the scene's groups.shadow_size)");
+    p.add_int("workload.triangles_per_sphere", 0, 0, 64, "triangles per sphere (0 = the scene's value)");
+    p.add_string("numerics.format", std::string("float32"),
+                 "number format of the intersectors: float32, float64, fp1-E-M[-rtz]");
+    p.add_string("sim.functional", std::string("compute"),
+                 "compute = intersectors compute with the math library (hits checked against the front end); "
+                 "trace = plane-hit masks taken from the trace (faster, hits not checked)",
+                 {"compute", "trace"});
+    p.add_string("sim.mode", std::string("cycle"), "cycle = step every clock cycle", {"cycle"});
+    p.add_int("sim.sync_cycles", 4096, 1, 1000000000, "cycles simulated between SystemC time updates (1 with --vcd)");
+    p.add_int("sim.watchdog_cycles", 1000000, 1, 1000000000000,
+              "stop with an error when nothing moves for this many cycles");
+    return p;
+}
+
+SimConfig config_from_params(const ParamSet& p) {
+    SimConfig c;
+    c.iccs = std::uint32_t(p.get_int("machine.iccs"));
+    c.clock_mhz = p.get_real("machine.clock_mhz");
+    c.icc.psi.pipes = std::uint32_t(p.get_int("icc.psi_pipes"));
+    c.icc.psi.stages = std::uint32_t(p.get_int("icc.psi_stages"));
+    c.icc.rti.pipes = std::uint32_t(p.get_int("icc.rti_pipes"));
+    c.icc.rti.stages = std::uint32_t(p.get_int("icc.rti_stages"));
+    c.icc.sphere_fifo.depth = std::uint32_t(p.get_int("fifo.sphere_depth"));
+    c.icc.triangle_fifo.depth = std::uint32_t(p.get_int("fifo.triangle_depth"));
+    c.icc.planeid_fifo.depth = std::uint32_t(p.get_int("fifo.planeid_depth"));
+    c.icc.selector.policy = p.get_string("link.stall_policy") == "needed_full" ? StallPolicy::needed_full : StallPolicy::any_full;
+    c.sphere_record_bytes = std::uint32_t(p.get_int("link.sphere_record_bytes"));
+    c.triangle_record_bytes = std::uint32_t(p.get_int("link.triangle_record_bytes"));
+    c.icc.output.entry_bytes = std::uint32_t(p.get_int("link.result_bytes"));
+    c.icc.min_distance.entry_bytes = c.icc.output.entry_bytes;
+    c.pass_overhead_cycles = std::uint64_t(p.get_int("host.pass_overhead_cycles"));
+    c.group_size = std::uint32_t(p.get_int("workload.group_size"));
+    c.shadow_group_size = std::uint32_t(p.get_int("workload.shadow_group_size"));
+    c.triangles_per_sphere = std::uint32_t(p.get_int("workload.triangles_per_sphere"));
+    try {
+        c.format = NumFormat::parse(p.get_string("numerics.format"));
+    } catch (const std::invalid_argument& e) {
+        throw InputError(p.origin("numerics.format") + ": " + e.what());
+    }
+    c.functional = p.get_string("sim.functional") == "trace" ? FunctionalMode::trace : FunctionalMode::compute;
+    c.mode = SimMode::cycle;
+    c.sync_cycles = std::uint64_t(p.get_int("sim.sync_cycles"));
+    c.watchdog_cycles = std::uint64_t(p.get_int("sim.watchdog_cycles"));
+    return c;
+}
+
+}  // namespace raplas::model

@@ -1,0 +1,65 @@
+// Decoder: turns a PSI result into work. A sphere hit by at least one row
+// plane and one column plane goes into the PlaneID FIFO (its plane masks,
+// decoded to plane/ray ids through the Decoder Table) and the
+// First-Triangle-ID FIFO (its triangle range); both move in lockstep. Every
+// decided sphere, hit or not, advances the `decided` count the Triangle
+// Selector waits on.
+#pragma once
+
+#include "fifo.hpp"
+#include "plane_sphere_intersector.hpp"
+
+namespace raplas::model {
+
+struct PlaneIdEntry {
+    std::uint64_t rows = 0, cols = 0;
+};
+struct FirstTriEntry {
+    std::uint32_t sphere = 0, first = 0, count = 0;
+};
+
+class Decoder : public sc_core::sc_module {
+public:
+    struct Params {};
+    struct Stats {
+        std::uint64_t decided = 0;
+        std::uint64_t sphere_hits = 0;
+        std::uint64_t full_cycles = 0;  // a hit could not be queued (FIFOs full)
+    };
+    Decoder(sc_core::sc_module_name n, const Params& p = {}) : sc_core::sc_module(n), params_(p) {}
+
+    void start_group() { decided_ = 0; }
+    std::uint32_t decided() const { return decided_; }
+
+    // Returns true when the PSI must hold this cycle.
+    template <class SphereInfo>
+    bool tick(PlaneSphereIntersector& psi, Fifo<PlaneIdEntry>& plane_ids, Fifo<FirstTriEntry>& first_ids,
+              const SphereInfo& info) {
+        if (!psi.has_output()) return false;
+        const PsiResult& r = psi.output();
+        if (r.rows && r.cols) {
+            if (plane_ids.full() || first_ids.full()) {
+                ++stats_.full_cycles;
+                if (plane_ids.full()) plane_ids.note_full();
+                if (first_ids.full()) first_ids.note_full();
+                return true;
+            }
+            plane_ids.push({r.rows, r.cols});
+            first_ids.push({r.sphere, info.first_tri(r.sphere), info.tri_count(r.sphere)});
+            ++stats_.sphere_hits;
+        }
+        decided_ = r.sphere + 1;
+        ++stats_.decided;
+        psi.pop_output();
+        return false;
+    }
+    const Params& params() const { return params_; }
+    const Stats& stats() const { return stats_; }
+
+private:
+    Params params_;
+    std::uint32_t decided_ = 0;
+    Stats stats_;
+};
+
+}  // namespace raplas::model

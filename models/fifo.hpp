@@ -1,0 +1,65 @@
+// A hardware FIFO of fixed depth. A push in cycle c is visible to the reader
+// from cycle c+1; "full" is judged on the occupancy at the start of a cycle
+// (no same-cycle pass-through of a pop), the conservative reading of §3.1.
+#pragma once
+
+#include <systemc>
+
+#include <cstdint>
+#include <stdexcept>
+#include <vector>
+
+namespace raplas::model {
+
+struct FifoParams {
+    std::uint32_t depth = 1000;
+};
+
+struct FifoStats {
+    std::uint64_t pushes = 0;
+    std::uint64_t max_occupancy = 0;
+    std::uint64_t full_cycles = 0;  // cycles in which a push was refused because it was full
+};
+
+template <class T>
+class Fifo : public sc_core::sc_module {
+public:
+    using Params = FifoParams;
+    using Stats = FifoStats;
+
+    Fifo(sc_core::sc_module_name name, const Params& p) : sc_core::sc_module(name), params_(p), buf_(p.depth) {
+        if (p.depth == 0) throw std::invalid_argument(std::string(this->name()) + ": depth must be >= 1");
+    }
+
+    bool empty() const { return count_ == 0; }
+    bool full() const { return count_ == params_.depth; }
+    std::uint32_t size() const { return count_; }
+    std::uint32_t depth() const { return params_.depth; }
+    const T& front() const { return buf_[head_]; }
+    T& front() { return buf_[head_]; }
+    void push(const T& v) {
+        buf_[(head_ + count_) % params_.depth] = v;
+        ++count_;
+        ++stats_.pushes;
+        if (count_ > stats_.max_occupancy) stats_.max_occupancy = count_;
+    }
+    void pop() {
+        head_ = head_ + 1 == params_.depth ? 0 : head_ + 1;
+        --count_;
+    }
+    void clear() {
+        head_ = 0;
+        count_ = 0;
+    }
+    void note_full() { ++stats_.full_cycles; }
+    const Stats& stats() const { return stats_; }
+    const Params& params() const { return params_; }
+
+private:
+    Params params_;
+    std::vector<T> buf_;
+    std::uint32_t head_ = 0, count_ = 0;
+    Stats stats_;
+};
+
+}  // namespace raplas::model

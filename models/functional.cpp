@@ -1,0 +1,106 @@
+#include "functional.hpp"
+
+#include <vector>
+
+namespace raplas::model {
+
+namespace {
+
+template <class A>
+class ComputeFunctional final : public Functional {
+public:
+    ComputeFunctional(const Trace& t, A a) : a_(a) {
+        for (const auto& s : t.spheres) spheres_.push_back(load(a_, s));
+        tris_.reserve(t.triangles.size());
+        for (const auto& tr : t.triangles) tris_.push_back(load(a_, tr));
+        mode_ = FunctionalMode::compute;
+    }
+
+    class Unit final : public GroupUnit {
+    public:
+        explicit Unit(const ComputeFunctional& f) : f_(f) {}
+        // The Plane-Sphere Intersectors' results for every sphere of the pass,
+        // computed in one batch when the group is loaded; the pipeline model
+        // releases each at its cycle.
+        void load(const TraceGroup& g) override {
+            n_ = g.n;
+            planes_.clear();
+            for (const auto& p : g.planes) planes_.push_back(raplas::load(f_.a_, p));
+            rays_.resize(std::size_t(n_) * n_);
+            for (std::uint32_t v = 0; v < n_; ++v)
+                for (std::uint32_t h = 0; h < n_; ++h) rays_[v * n_ + h] = raplas::load(f_.a_, g.ray(h, v));
+            group_sphere_hits(f_.a_, planes_.data(), n_, g.row_valid, g.col_valid, f_.spheres_, hits_);
+            cursor_ = 0;
+        }
+        void psi(std::uint32_t sphere, std::uint64_t& rows, std::uint64_t& cols) override {
+            while (cursor_ < hits_.size() && hits_[cursor_].sphere < sphere) ++cursor_;
+            if (cursor_ < hits_.size() && hits_[cursor_].sphere == sphere) {
+                rows = hits_[cursor_].rows;
+                cols = hits_[cursor_].cols;
+            } else {
+                rows = cols = 0;
+            }
+        }
+        bool rti(std::uint32_t ray, std::uint32_t tri, double& t) override {
+            return ray_hits_triangle(f_.a_, rays_[ray], f_.tris_[tri], t);
+        }
+
+    private:
+        const ComputeFunctional& f_;
+        std::uint32_t n_ = 0;
+        std::vector<PlaneA<A>> planes_;
+        std::vector<RayA<A>> rays_;
+        std::vector<SphereHitRec> hits_;
+        std::size_t cursor_ = 0;
+    };
+
+    std::unique_ptr<GroupUnit> make_unit() const override { return std::make_unique<Unit>(*this); }
+
+private:
+    A a_;
+    SphereSoA<A> spheres_;
+    std::vector<TriA<A>> tris_;
+};
+
+class TraceFunctional final : public Functional {
+public:
+    TraceFunctional() { mode_ = FunctionalMode::trace; }
+    class Unit final : public GroupUnit {
+    public:
+        void load(const TraceGroup& g) override {
+            g_ = &g;
+            cursor_ = 0;
+        }
+        void psi(std::uint32_t sphere, std::uint64_t& rows, std::uint64_t& cols) override {
+            const auto& list = g_->sphere_hits;
+            // spheres arrive in stream order within a pass
+            while (cursor_ < list.size() && list[cursor_].sphere < sphere) ++cursor_;
+            if (cursor_ < list.size() && list[cursor_].sphere == sphere) {
+                rows = list[cursor_].rows;
+                cols = list[cursor_].cols;
+            } else {
+                rows = cols = 0;
+            }
+        }
+        bool rti(std::uint32_t, std::uint32_t, double&) override { return false; }
+
+    private:
+        const TraceGroup* g_ = nullptr;
+        std::size_t cursor_ = 0;
+    };
+    std::unique_ptr<GroupUnit> make_unit() const override { return std::make_unique<Unit>(); }
+};
+
+}  // namespace
+
+std::unique_ptr<Functional> Functional::create(const Trace& t, const NumFormat& format, FunctionalMode mode) {
+    if (mode == FunctionalMode::trace) return std::make_unique<TraceFunctional>();
+    switch (format.kind) {
+        case NumFormat::Kind::f32: return std::make_unique<ComputeFunctional<ArithF32>>(t, ArithF32{});
+        case NumFormat::Kind::f64: return std::make_unique<ComputeFunctional<ArithF64>>(t, ArithF64{});
+        case NumFormat::Kind::custom: return std::make_unique<ComputeFunctional<ArithSoft>>(t, ArithSoft{format, true});
+    }
+    return nullptr;
+}
+
+}  // namespace raplas::model

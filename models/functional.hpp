@@ -1,0 +1,41 @@
+// The functional half of the intersector models: the core library's
+// plane-sphere and ray-triangle tests in the configured number format. The
+// timing blocks call these, so timing can never change an answer.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include "raplas/frontend/trace_io.hpp"
+
+namespace raplas::model {
+
+// Per-ICC unit: the ray group loaded into the ICC's Plane Memory and Ray Memory.
+class GroupUnit {
+public:
+    virtual ~GroupUnit() = default;
+    virtual void load(const TraceGroup& g) = 0;
+    // Plane-Sphere Intersectors: row and column plane-hit masks of a sphere.
+    virtual void psi(std::uint32_t sphere, std::uint64_t& rows, std::uint64_t& cols) = 0;
+    // Ray-Triangle Intersector: true and t when ray (v*N+h) hits the triangle.
+    virtual bool rti(std::uint32_t ray, std::uint32_t tri, double& t) = 0;
+};
+
+enum class FunctionalMode { compute, trace };
+
+// Shared, read-only: the scene's spheres and triangles converted to the format.
+class Functional {
+public:
+    virtual ~Functional() = default;
+    virtual std::unique_ptr<GroupUnit> make_unit() const = 0;
+    FunctionalMode mode() const { return mode_; }
+
+    // compute: the core library in `format`; trace: masks from the trace
+    // (no per-test arithmetic; final hits cannot be checked).
+    static std::unique_ptr<Functional> create(const Trace& t, const NumFormat& format, FunctionalMode mode);
+
+protected:
+    FunctionalMode mode_ = FunctionalMode::compute;
+};
+
+}  // namespace raplas::model

@@ -1,0 +1,54 @@
+// Host: loads the memories and hands ray groups to the ICCs in passes. A
+// pass gives each ICC at most one group; all primary groups are issued
+// before any shadow group, because a shadow group's origin is a primary hit
+// (docs/MODEL.md, "passes").
+#pragma once
+
+#include <systemc>
+
+#include <cstdint>
+#include <vector>
+
+namespace raplas::model {
+
+class Host : public sc_core::sc_module {
+public:
+    struct Params {
+        std::uint32_t iccs = 1;
+        std::uint64_t pass_overhead_cycles = 0;  // per pass: loading planes/rays, reading results
+    };
+    struct Stats {
+        std::uint64_t passes = 0;
+        std::uint64_t primary_passes = 0;
+        std::uint64_t groups = 0;
+    };
+    Host(sc_core::sc_module_name n, const Params& p) : sc_core::sc_module(n), params_(p) {}
+
+    // Pass p holds group indices [begin, end) of the issue order.
+    struct Pass {
+        std::uint32_t begin = 0, end = 0;
+        bool primary = true;
+    };
+    std::vector<Pass> plan(std::uint32_t primary_groups, std::uint32_t total_groups) {
+        std::vector<Pass> passes;
+        auto add = [&](std::uint32_t from, std::uint32_t to, bool primary) {
+            for (std::uint32_t b = from; b < to; b += params_.iccs)
+                passes.push_back({b, std::min(to, b + params_.iccs), primary});
+        };
+        add(0, primary_groups, true);
+        add(primary_groups, total_groups, false);
+        stats_.passes = passes.size();
+        stats_.groups = total_groups;
+        stats_.primary_passes = 0;
+        for (const auto& p : passes) stats_.primary_passes += p.primary;
+        return passes;
+    }
+    const Params& params() const { return params_; }
+    const Stats& stats() const { return stats_; }
+
+private:
+    Params params_;
+    Stats stats_;
+};
+
+}  // namespace raplas::model

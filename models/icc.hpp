@@ -1,0 +1,144 @@
+// Intersection Calculation Core (paper Figure 7): Selector + Sphere FIFO,
+// Plane-Sphere Intersectors, Decoder, PlaneID FIFO, First-Triangle-ID FIFO,
+// Triangle Selector + Triangle FIFO, Ray Data Fetcher, Ray-Triangle
+// Intersector, Min-distance Memory, Output Link. Each block is its own
+// module; the ICC wires them and steps them once per clock cycle, from the
+// back of the pipeline to the front, so that a value written in cycle c is
+// seen by the next block in cycle c+1.
+#pragma once
+
+#include <memory>
+
+#include "decoder.hpp"
+#include "fifo.hpp"
+#include "functional.hpp"
+#include "memories.hpp"
+#include "min_distance_memory.hpp"
+#include "output_link.hpp"
+#include "plane_sphere_intersector.hpp"
+#include "ray_data_fetcher.hpp"
+#include "ray_triangle_intersector.hpp"
+#include "sphere_selector.hpp"
+#include "triangle_selector.hpp"
+
+namespace raplas::model {
+
+// What the Decoder needs to know of a sphere: its triangle range.
+struct SphereInfo {
+    const SphereMemory* mem;
+    std::uint32_t first_tri(std::uint32_t s) const { return mem->peek(s).first_tri; }
+    std::uint32_t tri_count(std::uint32_t s) const { return mem->peek(s).tri_count; }
+};
+
+class Icc : public sc_core::sc_module {
+public:
+    struct Params {
+        FifoParams sphere_fifo{1000};
+        FifoParams triangle_fifo{1000};
+        FifoParams planeid_fifo{16};
+        PlaneSphereIntersector::Params psi;
+        RayTriangleIntersector::Params rti;
+        TriangleSelector::Params selector;
+        MinDistanceMemory::Params min_distance;
+        OutputLink::Params output;
+    };
+    struct Stats {
+        std::uint64_t pass_cycles = 0;   // cycles of passes in which this ICC had a group
+        std::uint64_t idle_cycles = 0;   // cycles of passes in which it had none
+        std::uint64_t groups = 0;
+    };
+
+    Icc(sc_core::sc_module_name n, const Params& p, const Functional& f)
+        : sc_core::sc_module(n),
+          sphere_selector("sphere_selector"),
+          sphere_fifo("sphere_fifo", p.sphere_fifo),
+          psi("psi", p.psi),
+          decoder("decoder"),
+          planeid_fifo("planeid_fifo", p.planeid_fifo),
+          first_tri_fifo("first_tri_fifo", p.planeid_fifo),
+          triangle_selector("triangle_selector", p.selector),
+          triangle_fifo("triangle_fifo", p.triangle_fifo),
+          ray_data_fetcher("ray_data_fetcher"),
+          rti("rti", p.rti),
+          min_distance("min_distance_memory", p.min_distance),
+          output("output_link", p.output),
+          params_(p),
+          unit_(f.make_unit()),
+          functional_(f) {}
+
+    void start_pass(const TraceGroup* g) {
+        group_ = g;
+        sphere_fifo.clear();
+        planeid_fifo.clear();
+        first_tri_fifo.clear();
+        triangle_fifo.clear();
+        decoder.start_group();
+        rti.start_group();
+        if (!g) return;
+        ++stats_.groups;
+        unit_->load(*g);
+        psi.start_group(2 * g->n);
+        ray_data_fetcher.start_group(g->n);
+        min_distance.reset(std::size_t(g->n) * g->n);
+    }
+    bool active() const { return group_ != nullptr; }
+    void add_idle(std::uint64_t cycles) { stats_.idle_cycles += cycles; }
+    const TraceGroup* group() const { return group_; }
+
+    bool sphere_ready() const { return sphere_selector.ready(active(), sphere_fifo); }
+    void note_sphere_blocked() { sphere_selector.note_blocked(sphere_fifo); }
+    bool triangle_ready(std::uint32_t sphere) const {
+        return triangle_selector.ready(active(), sphere, decoder.decided(), first_tri_fifo, triangle_fifo);
+    }
+    void note_triangle_blocked(std::uint32_t sphere) {
+        triangle_selector.note_blocked(sphere, decoder.decided(), triangle_fifo);
+    }
+
+    // One clock cycle. `sphere` / `tri` are the records broadcast this cycle (-1: none).
+    void tick(std::int64_t sphere, std::int64_t tri, std::uint32_t tri_sphere, const SphereInfo& info,
+              bool spheres_pending) {
+        ++stats_.pass_cycles;
+        rti.retire(*unit_, min_distance);
+        ray_data_fetcher.tick(triangle_fifo, rti);
+        rti.advance();
+        if (tri >= 0)
+            triangle_selector.receive(true, std::uint32_t(tri), tri_sphere, planeid_fifo, first_tri_fifo, triangle_fifo);
+        const bool hold = decoder.tick(psi, planeid_fifo, first_tri_fifo, info);
+        psi.tick(sphere_fifo, *unit_, hold, spheres_pending || !sphere_fifo.empty());
+        if (sphere >= 0) sphere_selector.receive(true, std::uint32_t(sphere), sphere_fifo);
+    }
+    // Nothing left in flight behind the Triangle Selector.
+    bool drained() const { return triangle_fifo.empty() && ray_data_fetcher.idle() && rti.empty(); }
+
+    // End of pass: results out through the Output Link.
+    const std::vector<Hit>& finish_pass() {
+        if (functional_.mode() == FunctionalMode::trace) min_distance.set(group_->hits);
+        output.send(std::uint64_t(group_->n) * group_->n);
+        return min_distance.hits();
+    }
+
+    const Params& params() const { return params_; }
+    const Stats& stats() const { return stats_; }
+
+    SphereSelector sphere_selector;
+    Fifo<std::uint32_t> sphere_fifo;
+    PlaneSphereIntersector psi;
+    Decoder decoder;
+    Fifo<PlaneIdEntry> planeid_fifo;
+    Fifo<FirstTriEntry> first_tri_fifo;
+    TriangleSelector triangle_selector;
+    Fifo<TriWork> triangle_fifo;
+    RayDataFetcher ray_data_fetcher;
+    RayTriangleIntersector rti;
+    MinDistanceMemory min_distance;
+    OutputLink output;
+
+private:
+    Params params_;
+    std::unique_ptr<GroupUnit> unit_;
+    const Functional& functional_;
+    const TraceGroup* group_ = nullptr;
+    Stats stats_;
+};
+
+}  // namespace raplas::model

@@ -1,0 +1,85 @@
+// Plane-Sphere Intersectors: P fully pipelined pipes of L stages (paper:
+// 32 pipes, 10 stages). A sphere's 2N plane tests are issued over
+// ceil(2N/P) cycles; its row/column hit masks leave the last stage
+// L cycles after its last batch entered. When the Decoder cannot take a
+// result the whole pipe holds (no stage advances, nothing is issued).
+#pragma once
+
+#include <deque>
+
+#include "fifo.hpp"
+#include "functional.hpp"
+
+namespace raplas::model {
+
+struct PsiResult {
+    std::uint32_t sphere = 0;
+    std::uint64_t rows = 0, cols = 0;
+    std::uint64_t ready = 0;  // pipe-local time at which it leaves the last stage
+};
+
+class PlaneSphereIntersector : public sc_core::sc_module {
+public:
+    struct Params {
+        std::uint32_t pipes = 32;
+        std::uint32_t stages = 10;
+    };
+    struct Stats {
+        std::uint64_t spheres = 0;        // spheres tested
+        std::uint64_t plane_tests = 0;
+        std::uint64_t busy_cycles = 0;    // cycles with a batch entering the pipes
+        std::uint64_t stall_cycles = 0;   // held because the Decoder's FIFOs were full
+        std::uint64_t starved_cycles = 0; // input slot free but the Sphere FIFO empty
+    };
+
+    PlaneSphereIntersector(sc_core::sc_module_name n, const Params& p) : sc_core::sc_module(n), params_(p) {}
+
+    void start_group(std::uint32_t planes) {
+        planes_ = planes;
+        batches_ = (planes + params_.pipes - 1) / params_.pipes;
+        if (batches_ == 0) batches_ = 1;
+        inflight_.clear();
+        t_ = 0;
+        next_issue_ = 0;
+    }
+    bool has_output() const { return !inflight_.empty() && inflight_.front().ready <= t_; }
+    const PsiResult& output() const { return inflight_.front(); }
+    void pop_output() { inflight_.pop_front(); }
+    bool empty() const { return inflight_.empty(); }
+
+    // One clock cycle, after the Decoder has looked at the output.
+    void tick(Fifo<std::uint32_t>& in, GroupUnit& unit, bool stalled, bool spheres_pending) {
+        if (stalled) {
+            ++stats_.stall_cycles;
+            return;
+        }
+        if (t_ < next_issue_) {
+            ++stats_.busy_cycles;  // later batches of the current sphere
+        } else if (!in.empty()) {
+            PsiResult r;
+            r.sphere = in.front();
+            in.pop();
+            unit.psi(r.sphere, r.rows, r.cols);
+            r.ready = t_ + batches_ - 1 + params_.stages;
+            inflight_.push_back(r);
+            next_issue_ = t_ + batches_;
+            ++stats_.spheres;
+            stats_.plane_tests += planes_;
+            ++stats_.busy_cycles;
+        } else if (spheres_pending) {
+            ++stats_.starved_cycles;
+        }
+        ++t_;
+    }
+    const Params& params() const { return params_; }
+    const Stats& stats() const { return stats_; }
+
+private:
+    Params params_;
+    std::uint32_t planes_ = 0, batches_ = 1;
+    std::deque<PsiResult> inflight_;
+    std::uint64_t t_ = 0, next_issue_ = 0;
+    Stats stats_;
+};
+
+}  // namespace raplas::model

@@ -1,0 +1,71 @@
+// Ray Data Fetcher: takes triangles from the Triangle FIFO and, for each,
+// feeds the Ray-Triangle Intersector one (ray, triangle) pair per pipe per
+// cycle for every ray (h, v) with v in the row mask and h in the column
+// mask, rows first. A triangle popped in a cycle issues in that same cycle.
+#pragma once
+
+#include "fifo.hpp"
+#include "ray_triangle_intersector.hpp"
+#include "triangle_selector.hpp"
+
+namespace raplas::model {
+
+class RayDataFetcher : public sc_core::sc_module {
+public:
+    struct Params {};
+    struct Stats {
+        std::uint64_t triangles = 0;
+        std::uint64_t starved_cycles = 0;  // nothing to issue while the pass runs
+    };
+    RayDataFetcher(sc_core::sc_module_name n, const Params& p = {}) : sc_core::sc_module(n), params_(p) {}
+
+    void start_group(std::uint32_t n) {
+        n_ = n;
+        busy_ = false;
+    }
+    bool idle() const { return !busy_; }
+
+    void tick(Fifo<TriWork>& in, RayTriangleIntersector& rti) {
+        bool issued = false;
+        while (rti.can_issue()) {
+            if (!busy_) {
+                if (in.empty()) break;
+                cur_ = in.front();
+                in.pop();
+                ++stats_.triangles;
+                busy_ = true;
+                rows_left_ = cur_.rows;
+                cols_left_ = cur_.cols;
+            }
+            const std::uint32_t v = std::uint32_t(__builtin_ctzll(rows_left_));
+            const std::uint32_t h = std::uint32_t(__builtin_ctzll(cols_left_));
+            rti.issue({v * n_ + h, cur_.tri});
+            issued = true;
+            cols_left_ &= cols_left_ - 1;
+            if (!cols_left_) {
+                rows_left_ &= rows_left_ - 1;
+                cols_left_ = cur_.cols;
+                if (!rows_left_) busy_ = false;
+            }
+        }
+        if (!issued) ++stats_.starved_cycles;
+    }
+    // Cycles of RTI work still held (current triangle only).
+    std::uint64_t pending_pairs() const {
+        if (!busy_) return 0;
+        const std::uint64_t pc = std::uint64_t(__builtin_popcountll(cur_.cols));
+        return (std::uint64_t(__builtin_popcountll(rows_left_)) - 1) * pc + std::uint64_t(__builtin_popcountll(cols_left_));
+    }
+    const Params& params() const { return params_; }
+    const Stats& stats() const { return stats_; }
+
+private:
+    Params params_;
+    std::uint32_t n_ = 0;
+    bool busy_ = false;
+    TriWork cur_;
+    std::uint64_t rows_left_ = 0, cols_left_ = 0;
+    Stats stats_;
+};
+
+}  // namespace raplas::model

@@ -1,0 +1,37 @@
+// Per-ICC Selector on the Sphere Stream Link: an ICC with a ray group takes
+// every sphere (each must be tested against its planes) into its Sphere
+// FIFO; an ICC without a group this pass ignores the stream.
+#pragma once
+
+#include "fifo.hpp"
+
+namespace raplas::model {
+
+class SphereSelector : public sc_core::sc_module {
+public:
+    struct Params {};
+    struct Stats {
+        std::uint64_t received = 0;
+        std::uint64_t blocked_link_cycles = 0;  // cycles this ICC's full Sphere FIFO stopped the broadcast
+    };
+    SphereSelector(sc_core::sc_module_name n, const Params& p = {}) : sc_core::sc_module(n), params_(p) {}
+
+    bool ready(bool active, const Fifo<std::uint32_t>& fifo) const { return !active || !fifo.full(); }
+    void note_blocked(Fifo<std::uint32_t>& fifo) {
+        ++stats_.blocked_link_cycles;
+        fifo.note_full();
+    }
+    void receive(bool active, std::uint32_t sphere, Fifo<std::uint32_t>& fifo) {
+        if (!active) return;
+        fifo.push(sphere);
+        ++stats_.received;
+    }
+    const Stats& stats() const { return stats_; }
+    const Params& params() const { return params_; }
+
+private:
+    Params params_;
+    Stats stats_;
+};
+
+}  // namespace raplas::model

@@ -1,0 +1,290 @@
+#include "top.hpp"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <sstream>
+
+#include "raplas/util/error.hpp"
+
+namespace raplas::model {
+
+struct Top::Vcd {
+    sc_core::sc_trace_file* file = nullptr;
+    std::string tmp_base, final_path;
+    std::uint32_t pass = 0;
+    bool s_valid = false, s_stall = false, t_valid = false, t_stall = false;
+    std::uint32_t s_index = 0, t_index = 0;
+    std::vector<std::uint32_t> sphere_fifo, planeid_fifo, triangle_fifo, rti_inflight, decided;
+};
+
+Top::Top(sc_core::sc_module_name n, const SimConfig& cfg, const Trace& trace, const Functional& f,
+         const SimOptions& opt)
+    : sc_core::sc_module(n),
+      host("host", Host::Params{cfg.iccs, cfg.pass_overhead_cycles}),
+      sphere_memory("sphere_memory", SphereMemory::Params{cfg.sphere_record_bytes}),
+      triangle_memory("triangle_memory", TriangleMemory::Params{cfg.triangle_record_bytes}),
+      sphere_link("sphere_stream_link", StreamLink::Params{cfg.sphere_record_bytes}),
+      triangle_link("triangle_stream_link", StreamLink::Params{cfg.triangle_record_bytes}),
+      iccs("icc"),
+      cfg_(cfg),
+      trace_(trace),
+      functional_(f),
+      opt_(opt),
+      period_(1.0e6 / cfg.clock_mhz, sc_core::SC_PS) {
+    iccs.init(cfg.iccs, [&](const char* name, std::size_t) { return new Icc(name, cfg.icc, f); });
+    std::vector<SphereRecord> srec(trace.spheres.size());
+    std::vector<std::uint32_t> sphere_of(trace.triangles.size());
+    for (std::size_t s = 0; s < trace.spheres.size(); ++s) {
+        srec[s] = {trace.spheres[s], trace.first_tri[s], trace.tri_count[s]};
+        for (std::uint32_t t = 0; t < trace.tri_count[s]; ++t) sphere_of[trace.first_tri[s] + t] = std::uint32_t(s);
+    }
+    sphere_memory.load(std::move(srec));
+    triangle_memory.load(trace.triangles, std::move(sphere_of));
+    if (!opt_.vcd_path.empty()) setup_vcd();
+    SC_THREAD(run);
+}
+
+Top::~Top() {
+    if (vcd_ && vcd_->file) {
+        sc_core::sc_close_vcd_trace_file(vcd_->file);
+        std::rename((vcd_->tmp_base + ".vcd").c_str(), vcd_->final_path.c_str());
+    }
+}
+
+void Top::setup_vcd() {
+    vcd_ = std::make_unique<Vcd>();
+    vcd_->final_path = opt_.vcd_path;
+    std::string base = opt_.vcd_path;
+    if (base.size() > 4 && base.substr(base.size() - 4) == ".vcd") base.resize(base.size() - 4);
+    vcd_->tmp_base = base + ".tmp" + std::to_string(::getpid());
+    vcd_->file = sc_core::sc_create_vcd_trace_file(vcd_->tmp_base.c_str());
+    if (!vcd_->file) throw InputError(opt_.vcd_path + ": cannot create VCD file");
+    vcd_->file->set_time_unit(1, sc_core::SC_PS);
+    auto* f = vcd_->file;
+    sc_core::sc_trace(f, vcd_->pass, "host.pass");
+    sc_core::sc_trace(f, vcd_->s_valid, "sphere_stream_link.valid");
+    sc_core::sc_trace(f, vcd_->s_stall, "sphere_stream_link.stall");
+    sc_core::sc_trace(f, vcd_->s_index, "sphere_stream_link.index");
+    sc_core::sc_trace(f, vcd_->t_valid, "triangle_stream_link.valid");
+    sc_core::sc_trace(f, vcd_->t_stall, "triangle_stream_link.stall");
+    sc_core::sc_trace(f, vcd_->t_index, "triangle_stream_link.index");
+    const std::size_t shown = std::min<std::size_t>(iccs.size(), 16);
+    vcd_->sphere_fifo.assign(shown, 0);
+    vcd_->planeid_fifo.assign(shown, 0);
+    vcd_->triangle_fifo.assign(shown, 0);
+    vcd_->rti_inflight.assign(shown, 0);
+    vcd_->decided.assign(shown, 0);
+    for (std::size_t k = 0; k < shown; ++k) {
+        std::string p = "icc_" + std::to_string(k) + ".";
+        sc_core::sc_trace(f, vcd_->sphere_fifo[k], p + "sphere_fifo.occupancy");
+        sc_core::sc_trace(f, vcd_->planeid_fifo[k], p + "planeid_fifo.occupancy");
+        sc_core::sc_trace(f, vcd_->triangle_fifo[k], p + "triangle_fifo.occupancy");
+        sc_core::sc_trace(f, vcd_->rti_inflight[k], p + "rti.inflight");
+        sc_core::sc_trace(f, vcd_->decided[k], p + "decoder.decided");
+    }
+    cfg_.sync_cycles = 1;
+}
+
+void Top::sample_vcd(bool s_valid, bool s_stall, bool t_valid, bool t_stall) {
+    vcd_->s_valid = s_valid;
+    vcd_->s_stall = s_stall;
+    vcd_->t_valid = t_valid;
+    vcd_->t_stall = t_stall;
+    vcd_->s_index = std::uint32_t(sphere_link.position());
+    vcd_->t_index = std::uint32_t(triangle_link.position());
+    for (std::size_t k = 0; k < vcd_->sphere_fifo.size(); ++k) {
+        vcd_->sphere_fifo[k] = iccs[k].sphere_fifo.size();
+        vcd_->planeid_fifo[k] = iccs[k].planeid_fifo.size();
+        vcd_->triangle_fifo[k] = iccs[k].triangle_fifo.size();
+        vcd_->rti_inflight[k] = iccs[k].rti.inflight();
+        vcd_->decided[k] = iccs[k].decoder.decided();
+    }
+}
+
+std::uint64_t Top::progress_signature() const {
+    std::uint64_t sig = sphere_link.position() * 3 + triangle_link.position() * 7;
+    for (const auto& icc : iccs) sig += icc.rti.stats().tests + icc.psi.stats().spheres + icc.decoder.stats().decided;
+    return sig;
+}
+
+std::string Top::stuck_report(std::uint64_t cycle) const {
+    std::ostringstream o;
+    o << "watchdog: no progress for " << cfg_.watchdog_cycles << " cycles (pass " << result_.pass_cycles.size()
+      << ", cycle " << cycle << "): sphere link at " << sphere_link.position() << "/" << sphere_link.end()
+      << ", triangle link at " << triangle_link.position() << "/" << triangle_link.end() << ";";
+    int shown = 0;
+    for (std::size_t k = 0; k < iccs.size() && shown < 8; ++k) {
+        const Icc& c = iccs[k];
+        if (!c.active()) continue;
+        ++shown;
+        o << " icc_" << k << ": sphere_fifo " << c.sphere_fifo.size() << "/" << c.sphere_fifo.depth() << ", planeid_fifo "
+          << c.planeid_fifo.size() << "/" << c.planeid_fifo.depth() << ", triangle_fifo " << c.triangle_fifo.size()
+          << "/" << c.triangle_fifo.depth() << ", decided " << c.decoder.decided() << ", rti in flight "
+          << c.rti.inflight() << ";";
+    }
+    return o.str();
+}
+
+std::uint64_t Top::run_pass(const Host::Pass& p) {
+    std::vector<Icc*> active;
+    for (std::size_t k = 0; k < iccs.size(); ++k) {
+        const std::uint32_t gi = p.begin + std::uint32_t(k);
+        const TraceGroup* g = gi < p.end ? &trace_.groups[gi] : nullptr;
+        iccs[k].start_pass(g);
+        if (g) active.push_back(&iccs[k]);
+    }
+    sphere_link.start_pass(sphere_memory.size());
+    triangle_link.start_pass(triangle_memory.size());
+    const SphereInfo info{&sphere_memory};
+    std::uint64_t cycle = 0;
+    std::uint64_t last_sig = progress_signature(), last_change = 0;
+    for (;;) {
+        std::int64_t s = -1, t = -1;
+        std::uint32_t ts = 0;
+        bool s_stall = false, t_stall = false;
+        if (sphere_link.has_record()) {
+            bool ok = true;
+            for (Icc* c : active)
+                if (!c->sphere_ready()) {
+                    ok = false;
+                    c->note_sphere_blocked();
+                }
+            if (ok) {
+                s = std::int64_t(sphere_link.position());
+                sphere_memory.read(std::size_t(s));
+                sphere_link.sent();
+            } else {
+                sphere_link.stalled();
+                s_stall = true;
+            }
+        } else {
+            sphere_link.idle();
+        }
+        if (triangle_link.has_record()) {
+            const std::uint32_t i = std::uint32_t(triangle_link.position());
+            ts = triangle_memory.sphere_of(i);
+            bool ok = true;
+            for (Icc* c : active)
+                if (!c->triangle_ready(ts)) {
+                    ok = false;
+                    c->note_triangle_blocked(ts);
+                }
+            if (ok) {
+                t = i;
+                triangle_memory.read(i);
+                triangle_link.sent();
+            } else {
+                triangle_link.stalled();
+                t_stall = true;
+            }
+        } else {
+            triangle_link.idle();
+        }
+        const bool spheres_pending = sphere_link.has_record();
+        for (Icc* c : active) c->tick(s, t, ts, info, spheres_pending);
+        ++cycle;
+        if (vcd_) sample_vcd(s >= 0, s_stall, t >= 0, t_stall);
+        if (opt_.on_cycle) opt_.on_cycle(*this, cycle - 1, s, t);
+        if (!sphere_link.has_record() && !triangle_link.has_record()) {
+            bool drained = true;
+            for (Icc* c : active) drained = drained && c->drained();
+            if (drained) break;
+        }
+        if (++since_sync_ >= cfg_.sync_cycles) {
+            wait(period_ * double(since_sync_));
+            since_sync_ = 0;
+            const std::uint64_t sig = progress_signature();
+            if (sig != last_sig) {
+                last_sig = sig;
+                last_change = cycle;
+            } else if (cycle - last_change >= cfg_.watchdog_cycles) {
+                throw std::runtime_error(stuck_report(cycle));
+            }
+        }
+    }
+    for (auto& icc : iccs)
+        if (!icc.active()) icc.add_idle(cycle);
+    return cycle;
+}
+
+void Top::check_pass(const Host::Pass& p) {
+    for (std::size_t k = 0; k < iccs.size(); ++k) {
+        if (!iccs[k].active()) continue;
+        const TraceGroup& g = trace_.groups[p.begin + k];
+        const std::vector<Hit>& hits = iccs[k].finish_pass();
+        if (functional_.mode() != FunctionalMode::compute) continue;
+        for (std::uint32_t v = 0; v < g.n; ++v)
+            for (std::uint32_t h = 0; h < g.n; ++h) {
+                if (!g.ray_valid(h, v)) continue;
+                ++result_.rays_checked;
+                if (hits[v * g.n + h] != g.hits[v * g.n + h]) ++result_.rays_mismatched;
+            }
+    }
+}
+
+void Top::run() {
+    try {
+        const auto passes = host.plan(trace_.primary_groups, std::uint32_t(trace_.groups.size()));
+        std::uint64_t total = 0;
+        for (std::size_t i = 0; i < passes.size(); ++i) {
+            if (vcd_) vcd_->pass = std::uint32_t(i);
+            std::uint64_t c = run_pass(passes[i]);
+            check_pass(passes[i]);
+            c += cfg_.pass_overhead_cycles;
+            result_.pass_cycles.push_back(c);
+            total += c;
+            if (opt_.progress) opt_.progress(i + 1, passes.size(), total);
+        }
+        if (since_sync_) wait(period_ * double(since_sync_));
+        if (cfg_.pass_overhead_cycles) wait(period_ * double(cfg_.pass_overhead_cycles * passes.size()));
+        result_.total_cycles = total;
+    } catch (const std::exception& e) {
+        error_ = e.what();
+    }
+    // The thread ends here; sc_start() returns when no event is left.
+}
+
+SimResult simulate(const Trace& trace, const SimConfig& cfg, const SimOptions& opt) {
+    auto functional = Functional::create(trace, cfg.format, cfg.functional);
+    auto top = std::make_unique<Top>("raplas", cfg, trace, *functional, opt);
+    auto t0 = std::chrono::steady_clock::now();
+    sc_core::sc_start();
+    SimResult r = top->result();
+    r.model_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!top->error().empty()) {
+        std::string err = top->error();
+        top.reset();
+        if (!opt.vcd_path.empty()) std::remove(opt.vcd_path.c_str());
+        throw std::runtime_error(err);
+    }
+    r.host = top->host.stats();
+    r.sphere_link = top->sphere_link.stats();
+    r.triangle_link = top->triangle_link.stats();
+    r.sphere_memory = top->sphere_memory.stats();
+    r.triangle_memory = top->triangle_memory.stats();
+    for (auto& c : top->iccs) {
+        IccSnapshot s;
+        s.icc = c.stats();
+        s.sphere_selector = c.sphere_selector.stats();
+        s.sphere_fifo = c.sphere_fifo.stats();
+        s.planeid_fifo = c.planeid_fifo.stats();
+        s.first_tri_fifo = c.first_tri_fifo.stats();
+        s.triangle_fifo = c.triangle_fifo.stats();
+        s.psi = c.psi.stats();
+        s.decoder = c.decoder.stats();
+        s.triangle_selector = c.triangle_selector.stats();
+        s.ray_data_fetcher = c.ray_data_fetcher.stats();
+        s.rti = c.rti.stats();
+        s.min_distance = c.min_distance.stats();
+        s.output = c.output.stats();
+        r.iccs.push_back(s);
+    }
+    top.reset();  // closes and renames the waveform
+    r.functional_checked = cfg.functional == FunctionalMode::compute;
+    r.functional_match = r.functional_checked && r.rays_mismatched == 0;
+    return r;
+}
+
+}  // namespace raplas::model

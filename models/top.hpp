@@ -1,0 +1,99 @@
+// The top module: Host, Sphere/Triangle Memory, the two Stream Links and K
+// ICCs, wired and clocked by one SystemC thread (blocks are C++ state
+// machines stepped each cycle; SystemC time advances every sync_cycles).
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "config.hpp"
+#include "host.hpp"
+#include "icc.hpp"
+#include "memories.hpp"
+#include "stream_link.hpp"
+
+namespace raplas::model {
+
+struct IccSnapshot {
+    Icc::Stats icc;
+    SphereSelector::Stats sphere_selector;
+    FifoStats sphere_fifo, planeid_fifo, first_tri_fifo, triangle_fifo;
+    PlaneSphereIntersector::Stats psi;
+    Decoder::Stats decoder;
+    TriangleSelector::Stats triangle_selector;
+    RayDataFetcher::Stats ray_data_fetcher;
+    RayTriangleIntersector::Stats rti;
+    MinDistanceMemory::Stats min_distance;
+    OutputLink::Stats output;
+};
+
+struct SimResult {
+    std::uint64_t total_cycles = 0;
+    std::vector<std::uint64_t> pass_cycles;
+    Host::Stats host;
+    StreamLink::Stats sphere_link, triangle_link;
+    SphereMemory::Stats sphere_memory;
+    TriangleMemory::Stats triangle_memory;
+    std::vector<IccSnapshot> iccs;
+    bool functional_checked = false;
+    bool functional_match = false;
+    std::uint64_t rays_checked = 0, rays_mismatched = 0;
+    double model_wall_s = 0;  // wall time of the timing model alone
+};
+
+struct SimOptions {
+    std::string vcd_path;  // empty: no waveform
+    // Called after every pass: (passes done, passes total, cycles so far).
+    std::function<void(std::size_t, std::size_t, std::uint64_t)> progress;
+    // Called after every cycle with the records broadcast in it (-1: none);
+    // for tests and debugging (slows the simulation down).
+    std::function<void(const class Top&, std::uint64_t cycle, std::int64_t sphere, std::int64_t tri)> on_cycle;
+};
+
+class Top : public sc_core::sc_module {
+public:
+    SC_HAS_PROCESS(Top);
+    Top(sc_core::sc_module_name n, const SimConfig& cfg, const Trace& trace, const Functional& f,
+        const SimOptions& opt);
+    ~Top() override;
+
+    Host host;
+    SphereMemory sphere_memory;
+    TriangleMemory triangle_memory;
+    StreamLink sphere_link;
+    StreamLink triangle_link;
+    sc_core::sc_vector<Icc> iccs;
+
+    const SimResult& result() const { return result_; }
+    const std::string& error() const { return error_; }
+
+private:
+    void run();
+    std::uint64_t run_pass(const Host::Pass& p);
+    void check_pass(const Host::Pass& p);
+    std::string stuck_report(std::uint64_t cycle) const;
+    std::uint64_t progress_signature() const;
+    void setup_vcd();
+    void sample_vcd(bool s_valid, bool s_stall, bool t_valid, bool t_stall);
+
+    SimConfig cfg_;
+    const Trace& trace_;
+    const Functional& functional_;
+    SimOptions opt_;
+    sc_core::sc_time period_;
+    SimResult result_;
+    std::string error_;
+    std::uint64_t since_sync_ = 0;
+
+    struct Vcd;
+    std::unique_ptr<Vcd> vcd_;
+};
+
+// Runs one simulation in this process (SystemC allows one per process).
+// Throws InputError for a configuration that cannot run, std::runtime_error
+// from the watchdog.
+SimResult simulate(const Trace& trace, const SimConfig& cfg, const SimOptions& opt = {});
+
+}  // namespace raplas::model

@@ -1,0 +1,74 @@
+// Triangle Selector: watches the Triangle Stream Link and keeps the
+// triangles of spheres its PSIs hit (head of the First-Triangle-ID FIFO),
+// with their plane masks, in the Triangle FIFO; discards the rest. It can
+// only judge a triangle whose sphere has been decided: until then it holds
+// the broadcast (docs/MODEL.md, "triangle stream behind the sphere stream").
+#pragma once
+
+#include "decoder.hpp"
+
+namespace raplas::model {
+
+struct TriWork {
+    std::uint32_t tri = 0;
+    std::uint64_t rows = 0, cols = 0;
+};
+
+enum class StallPolicy { any_full, needed_full };
+
+class TriangleSelector : public sc_core::sc_module {
+public:
+    struct Params {
+        StallPolicy policy = StallPolicy::any_full;
+    };
+    struct Stats {
+        std::uint64_t selected = 0;
+        std::uint64_t discarded = 0;
+        std::uint64_t blocked_fifo_full = 0;  // cycles this ICC stopped the broadcast: Triangle FIFO full
+        std::uint64_t blocked_undecided = 0;  // ... its sphere not decided yet
+    };
+    TriangleSelector(sc_core::sc_module_name n, const Params& p) : sc_core::sc_module(n), params_(p) {}
+
+    static bool wants(std::uint32_t sphere, const Fifo<FirstTriEntry>& first_ids) {
+        return !first_ids.empty() && first_ids.front().sphere == sphere;
+    }
+    // Can this ICC take triangle `tri` of sphere `sphere` this cycle?
+    bool ready(bool active, std::uint32_t sphere, std::uint32_t decided, const Fifo<FirstTriEntry>& first_ids,
+               const Fifo<TriWork>& tri_fifo) const {
+        if (!active) return true;
+        if (decided <= sphere) return false;
+        if (!tri_fifo.full()) return true;
+        return params_.policy == StallPolicy::needed_full && !wants(sphere, first_ids);
+    }
+    void note_blocked(std::uint32_t sphere, std::uint32_t decided, Fifo<TriWork>& tri_fifo) {
+        if (decided <= sphere) ++stats_.blocked_undecided;
+        else {
+            ++stats_.blocked_fifo_full;
+            tri_fifo.note_full();
+        }
+    }
+    void receive(bool active, std::uint32_t tri, std::uint32_t sphere, Fifo<PlaneIdEntry>& plane_ids,
+                 Fifo<FirstTriEntry>& first_ids, Fifo<TriWork>& tri_fifo) {
+        if (!active) return;
+        if (!wants(sphere, first_ids)) {
+            ++stats_.discarded;
+            return;
+        }
+        const PlaneIdEntry& p = plane_ids.front();
+        tri_fifo.push({tri, p.rows, p.cols});
+        ++stats_.selected;
+        const FirstTriEntry& f = first_ids.front();
+        if (tri + 1 == f.first + f.count) {
+            plane_ids.pop();
+            first_ids.pop();
+        }
+    }
+    const Params& params() const { return params_; }
+    const Stats& stats() const { return stats_; }
+
+private:
+    Params params_;
+    Stats stats_;
+};
+
+}  // namespace raplas::model

@@ -1,0 +1,151 @@
+// `raplas simulate`: front end (or a trace file) + the SystemC model.
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+
+#include "commands.hpp"
+#include "config.hpp"
+#include "raplas/app/sim_report.hpp"
+#include "raplas/frontend/trace_io.hpp"
+#include "raplas/util/atomic_file.hpp"
+#include "raplas/util/error.hpp"
+
+#ifndef RAPLAS_SOURCE_DIR
+#define RAPLAS_SOURCE_DIR "."
+#endif
+
+namespace raplas {
+
+namespace {
+
+bool is_file(const std::string& p) {
+    struct stat st{};
+    return ::stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+}
+
+// A config is a file, or a name in configs/ (working directory, then the source tree).
+std::string resolve_config(const std::string& c) {
+    if (is_file(c)) return c;
+    for (const std::string& dir : {std::string("configs"), std::string(RAPLAS_SOURCE_DIR) + "/configs"}) {
+        if (is_file(dir + "/" + c + ".toml")) return dir + "/" + c + ".toml";
+        if (is_file(dir + "/" + c)) return dir + "/" + c;
+    }
+    throw InputError("config '" + c + "' not found (a file, or a name in configs/)");
+}
+
+}  // namespace
+
+void add_simulate_options(CLI::App* cmd, SimulateArgs& a) {
+    a.so.add_to(cmd, false);
+    cmd->add_option("--config,-c", a.config, "machine config: a TOML file or a name in configs/ (paper, fpga)");
+    cmd->add_option("--trace", a.trace, "simulate a trace file written by 'raplas trace' instead of a scene");
+    cmd->add_option("--iccs,-k", a.iccs, "ICC count (overrides machine.iccs)");
+    cmd->add_option("--fifo,-d", a.fifo, "Sphere and Triangle FIFO depth (overrides fifo.sphere_depth and fifo.triangle_depth)");
+    cmd->add_option("--json", a.json, "all statistics as JSON");
+    cmd->add_option("--csv", a.csv, "the main figures as one CSV row with a header");
+    cmd->add_option("--vcd", a.vcd, "VCD waveform of the top-level handshakes (GTKWave)");
+    cmd->add_flag("--dump-config", a.dump_config, "print the resolved machine config as TOML and exit");
+    cmd->add_flag("--progress", a.progress, "progress on stderr (default: when stderr is a terminal)");
+    // --set goes to the machine config when it names a config key, else to the scene.
+    cmd->remove_option(cmd->get_option("--set"));
+    cmd->add_option("--set", a.config_sets, "override a config or scene key, e.g. --set fifo.planeid_depth=4 (repeatable)");
+}
+
+int cmd_simulate(const SimulateArgs& a) {
+    using clock = std::chrono::steady_clock;
+    ParamSet mp = model::machine_params();
+    std::string config_name = "default";
+    if (!a.config.empty()) {
+        std::string path = resolve_config(a.config);
+        mp.load_file(path);
+        config_name = mp.is_given("name") ? mp.get_string("name") : a.config;
+    }
+    SceneOptions so = a.so;
+    for (const auto& s : a.config_sets) {
+        std::string key = s.substr(0, s.find('='));
+        if (mp.has(key) || !scene_params().has(key)) mp.set(s);
+        else so.sets.push_back(s);
+    }
+    if (a.iccs) mp.set("machine.iccs=" + std::to_string(a.iccs));
+    if (a.fifo) {
+        mp.set("fifo.sphere_depth=" + std::to_string(a.fifo));
+        mp.set("fifo.triangle_depth=" + std::to_string(a.fifo));
+    }
+    if (a.dump_config) {
+        std::cout << mp.dump();
+        return 0;
+    }
+    const model::SimConfig cfg = model::config_from_params(mp);
+
+    auto t0 = clock::now();
+    Trace trace;
+    std::string scene_name;
+    if (!a.trace.empty()) {
+        if (!so.scene.empty() || !so.mesh.empty()) throw InputError("give either --trace or --scene/--mesh, not both");
+        trace = read_trace(a.trace);
+        scene_name = trace.scene_name;
+        if (cfg.functional == model::FunctionalMode::compute && !(trace.format == cfg.format))
+            throw InputError(a.trace + ": trace was made in " + trace.format.name() + " but numerics.format is " +
+                             cfg.format.name());
+    } else {
+        Scene scene;
+        double load_s = 0;
+        auto adjust = [&](ParamSet& p) {
+            if (cfg.group_size) p.set("groups.size=" + std::to_string(cfg.group_size));
+            if (cfg.shadow_group_size) p.set("groups.shadow_size=" + std::to_string(cfg.shadow_group_size));
+            if (cfg.triangles_per_sphere) p.set("spheres.triangles_per_sphere=" + std::to_string(cfg.triangles_per_sphere));
+        };
+        if (!so.load(scene, load_s, adjust)) return 0;
+        FrameOptions fo;
+        fo.format = cfg.format;
+        fo.threads = so.threads;
+        fo.record = true;
+        Frame frame = render_frame(scene, fo);
+        trace = make_trace(scene, frame, cfg.format);
+        scene_name = scene.name;
+    }
+    const double frontend_s = std::chrono::duration<double>(clock::now() - t0).count();
+
+    model::SimOptions opt;
+    opt.vcd_path = a.vcd;
+    const bool show_progress = a.progress || (::isatty(2) && !so.quiet);
+    auto start = clock::now();
+    if (show_progress) {
+        opt.progress = [&](std::size_t done, std::size_t total, std::uint64_t cycles) {
+            const double el = std::chrono::duration<double>(clock::now() - start).count();
+            const double eta = done ? el / double(done) * double(total - done) : 0.0;
+            std::fprintf(stderr, "\r  pass %zu/%zu, %llu cycles, %.1f s elapsed, ETA %.1f s   ", done, total,
+                         (unsigned long long)cycles, el, eta);
+            if (done == total) std::fprintf(stderr, "\n");
+        };
+    }
+    model::SimResult result;
+    try {
+        result = model::simulate(trace, cfg, opt);
+    } catch (const std::runtime_error& e) {
+        if (std::string(e.what()).rfind("watchdog", 0) == 0) throw InputError(e.what());
+        throw;
+    }
+    SimReportInput in;
+    in.result = &result;
+    in.config = &cfg;
+    in.trace = &trace;
+    in.config_name = config_name;
+    in.scene_name = scene_name;
+    in.frontend_wall_s = frontend_s;
+    nlohmann::json j = sim_json(in);
+    if (!a.json.empty()) write_file_atomically(a.json, j.dump(2) + "\n");
+    if (!a.csv.empty()) write_file_atomically(a.csv, sim_csv_header() + sim_csv_row(j));
+    if (!so.quiet) std::cout << sim_summary(j);
+    if (result.functional_checked && !result.functional_match) {
+        std::cerr << "raplas: error: functional mismatch: " << result.rays_mismatched << " of " << result.rays_checked
+                  << " rays differ from the front end\n";
+        return kExitInternalError;
+    }
+    return 0;
+}
+
+}  // namespace raplas

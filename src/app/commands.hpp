@@ -1,0 +1,42 @@
+// Internal to the app layer: options shared by the front-end commands and
+// the entry points of each subcommand.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
+
+#include "raplas/core/numfmt.hpp"
+#include "raplas/scene/scene.hpp"
+
+namespace raplas {
+
+// What scene, with which overrides, in which number format.
+struct SceneOptions {
+    std::string scene, mesh, format = "float32";
+    std::vector<std::string> sets;
+    unsigned threads = 0;
+    bool dump_scene = false;
+    bool quiet = false;
+
+    void add_to(CLI::App* cmd, bool with_format = true);
+    NumFormat parsed_format() const;
+    // Loads the scene parameters (file, then --set), letting `adjust` change
+    // them before the scene is built. Returns false when --dump-scene printed them.
+    bool load(Scene& out, double& load_s, const std::function<void(ParamSet&)>& adjust = {}) const;
+};
+
+struct SimulateArgs {
+    SceneOptions so;
+    std::string config, trace, json, csv, vcd;
+    std::vector<std::string> config_sets;
+    std::uint32_t iccs = 0;  // 0: from the config
+    std::uint32_t fifo = 0;  // 0: from the config
+    bool dump_config = false;
+    bool progress = false;
+};
+
+void add_simulate_options(CLI::App* cmd, SimulateArgs& a);
+int cmd_simulate(const SimulateArgs& a);
+
+}  // namespace raplas

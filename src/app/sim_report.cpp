@@ -1,0 +1,211 @@
+#include "raplas/app/sim_report.hpp"
+
+#include <cstdio>
+#include <sstream>
+
+namespace raplas {
+
+namespace {
+
+nlohmann::json fifo_json(const model::FifoStats& f, std::uint32_t depth) {
+    return {{"depth", depth}, {"pushes", f.pushes}, {"max_occupancy", f.max_occupancy}, {"full_cycles", f.full_cycles}};
+}
+
+// The flat columns: (CSV name, JSON pointer).
+const std::vector<std::pair<const char*, const char*>>& columns() {
+    static const std::vector<std::pair<const char*, const char*>> c = {
+        {"scene", "/scene"},
+        {"config", "/config"},
+        {"iccs", "/iccs"},
+        {"fifo_depth", "/fifo_depth/triangle"},
+        {"sphere_fifo_depth", "/fifo_depth/sphere"},
+        {"planeid_fifo_depth", "/fifo_depth/planeid"},
+        {"format", "/format"},
+        {"total_cycles", "/total_cycles"},
+        {"time_ms", "/time_ms"},
+        {"passes", "/passes"},
+        {"ray_groups", "/ray_groups"},
+        {"primary_groups", "/primary_groups"},
+        {"spheres", "/spheres"},
+        {"triangles", "/triangles"},
+        {"sphere_hits", "/workload/sphere_hits"},
+        {"ray_triangle_tests", "/workload/ray_triangle_tests"},
+        {"sphere_link_records", "/links/sphere/records_sent"},
+        {"sphere_link_stall_cycles", "/links/sphere/stall_cycles"},
+        {"sphere_link_bytes", "/links/sphere/bytes"},
+        {"triangle_link_records", "/links/triangle/records_sent"},
+        {"triangle_link_stall_cycles", "/links/triangle/stall_cycles"},
+        {"triangle_link_bytes", "/links/triangle/bytes"},
+        {"sphere_link_peak_gbps", "/links/sphere/peak_bandwidth_gbps"},
+        {"triangle_link_peak_gbps", "/links/triangle/peak_bandwidth_gbps"},
+        {"triangle_link_avg_gbps", "/links/triangle/average_bandwidth_gbps"},
+        {"rti_busy_cycles", "/icc_totals/rti_busy_cycles"},
+        {"rti_utilisation", "/icc_totals/rti_utilisation"},
+        {"blocked_triangle_fifo_full", "/icc_totals/blocked_triangle_fifo_full"},
+        {"blocked_undecided", "/icc_totals/blocked_undecided"},
+        {"blocked_sphere_fifo_full", "/icc_totals/blocked_sphere_fifo_full"},
+        {"max_triangle_fifo_occupancy", "/icc_totals/max_triangle_fifo_occupancy"},
+        {"functional_match", "/functional_match"},
+    };
+    return c;
+}
+
+}  // namespace
+
+nlohmann::json sim_json(const SimReportInput& in) {
+    const model::SimResult& r = *in.result;
+    const model::SimConfig& c = *in.config;
+    const Trace& t = *in.trace;
+    const double seconds = double(r.total_cycles) / (c.clock_mhz * 1e6);
+    nlohmann::json j;
+    j["scene"] = in.scene_name;
+    j["config"] = in.config_name;
+    j["iccs"] = c.iccs;
+    j["fifo_depth"] = {{"sphere", c.icc.sphere_fifo.depth},
+                       {"triangle", c.icc.triangle_fifo.depth},
+                       {"planeid", c.icc.planeid_fifo.depth}};
+    j["format"] = c.format.name();
+    j["clock_mhz"] = c.clock_mhz;
+    j["total_cycles"] = r.total_cycles;
+    j["time_ms"] = seconds * 1e3;
+    j["passes"] = r.host.passes;
+    j["primary_passes"] = r.host.primary_passes;
+    j["ray_groups"] = t.groups.size();
+    j["primary_groups"] = t.primary_groups;
+    j["spheres"] = t.spheres.size();
+    j["triangles"] = t.triangles.size();
+    j["group_size"] = t.group_size;
+    j["shadow_group_size"] = t.shadow_group_size;
+    GroupCounts wc = t.total_counts();
+    j["workload"] = {{"plane_sphere_tests", wc.plane_tests},
+                     {"sphere_hits", wc.sphere_hits},
+                     {"ray_triangle_tests", wc.rt_tests}};
+    auto link = [&](const model::StreamLink::Stats& s, std::uint32_t bytes) {
+        return nlohmann::json{{"records_sent", s.records_sent},
+                              {"stall_cycles", s.stall_cycles},
+                              {"idle_cycles", s.idle_cycles},
+                              {"bytes", s.bytes},
+                              {"record_bytes", bytes},
+                              {"peak_bandwidth_gbps", bytes * c.clock_mhz * 1e6 / 1e9},
+                              {"average_bandwidth_gbps", seconds > 0 ? double(s.bytes) / seconds / 1e9 : 0.0}};
+    };
+    std::uint64_t out_bytes = 0;
+    for (const auto& s : r.iccs) out_bytes += s.output.bytes;
+    j["links"] = {{"sphere", link(r.sphere_link, c.sphere_record_bytes)},
+                  {"triangle", link(r.triangle_link, c.triangle_record_bytes)},
+                  {"output", {{"bytes", out_bytes}}}};
+    j["pass_cycles"] = r.pass_cycles;
+    nlohmann::json iccs = nlohmann::json::array();
+    std::uint64_t rti_busy = 0, b_full = 0, b_undec = 0, b_sph = 0, max_tri = 0, max_sph = 0, max_pid = 0, pass_cycles = 0;
+    for (std::size_t k = 0; k < r.iccs.size(); ++k) {
+        const model::IccSnapshot& s = r.iccs[k];
+        rti_busy += s.rti.busy_cycles;
+        b_full += s.triangle_selector.blocked_fifo_full;
+        b_undec += s.triangle_selector.blocked_undecided;
+        b_sph += s.sphere_selector.blocked_link_cycles;
+        max_tri = std::max(max_tri, s.triangle_fifo.max_occupancy);
+        max_sph = std::max(max_sph, s.sphere_fifo.max_occupancy);
+        max_pid = std::max(max_pid, s.planeid_fifo.max_occupancy);
+        pass_cycles += s.icc.pass_cycles;
+        iccs.push_back({
+            {"icc", k},
+            {"groups", s.icc.groups},
+            {"active_cycles", s.icc.pass_cycles},
+            {"idle_cycles", s.icc.idle_cycles},
+            {"busy_cycles", s.rti.busy_cycles},
+            {"stall_cycles",
+             {{"link_blocked_triangle_fifo_full", s.triangle_selector.blocked_fifo_full},
+              {"link_blocked_sphere_undecided", s.triangle_selector.blocked_undecided},
+              {"link_blocked_sphere_fifo_full", s.sphere_selector.blocked_link_cycles},
+              {"psi_held_decoder_full", s.psi.stall_cycles},
+              {"psi_starved", s.psi.starved_cycles},
+              {"rti_starved", s.ray_data_fetcher.starved_cycles}}},
+            {"sphere_fifo", fifo_json(s.sphere_fifo, c.icc.sphere_fifo.depth)},
+            {"planeid_fifo", fifo_json(s.planeid_fifo, c.icc.planeid_fifo.depth)},
+            {"first_tri_fifo", fifo_json(s.first_tri_fifo, c.icc.planeid_fifo.depth)},
+            {"triangle_fifo", fifo_json(s.triangle_fifo, c.icc.triangle_fifo.depth)},
+            {"psi", {{"spheres", s.psi.spheres}, {"plane_tests", s.psi.plane_tests}, {"busy_cycles", s.psi.busy_cycles}}},
+            {"decoder", {{"decided", s.decoder.decided}, {"sphere_hits", s.decoder.sphere_hits}}},
+            {"triangle_selector", {{"selected", s.triangle_selector.selected}, {"discarded", s.triangle_selector.discarded}}},
+            {"rti", {{"tests", s.rti.tests}, {"hits", s.rti.hits}}},
+            {"output_link", {{"records", s.output.records}, {"bytes", s.output.bytes}}},
+        });
+    }
+    j["icc_totals"] = {{"rti_busy_cycles", rti_busy},
+                       {"rti_utilisation", pass_cycles ? double(rti_busy) / double(pass_cycles) : 0.0},
+                       {"blocked_triangle_fifo_full", b_full},
+                       {"blocked_undecided", b_undec},
+                       {"blocked_sphere_fifo_full", b_sph},
+                       {"max_triangle_fifo_occupancy", max_tri},
+                       {"max_sphere_fifo_occupancy", max_sph},
+                       {"max_planeid_fifo_occupancy", max_pid}};
+    j["iccs_detail"] = iccs;
+    j["functional_checked"] = r.functional_checked;
+    j["functional_match"] = r.functional_match;
+    j["rays_checked"] = r.rays_checked;
+    j["rays_mismatched"] = r.rays_mismatched;
+    const double w = r.model_wall_s > 0 ? r.model_wall_s : 1e-9;
+    j["wall"] = {{"frontend_s", in.frontend_wall_s},
+                 {"model_s", r.model_wall_s},
+                 {"sim_cycles_per_second", double(r.total_cycles) / w},
+                 {"sim_icc_cycles_per_second", double(r.total_cycles) * c.iccs / w}};
+    j["sim_cycles_per_second"] = j["wall"]["sim_cycles_per_second"];
+    j["sim_icc_cycles_per_second"] = j["wall"]["sim_icc_cycles_per_second"];
+    return j;
+}
+
+std::string sim_csv_header() {
+    std::string h;
+    for (const auto& [name, ptr] : columns()) h += (h.empty() ? "" : ",") + std::string(name);
+    return h + "\n";
+}
+
+std::string sim_csv_row(const nlohmann::json& j) {
+    std::string row;
+    for (const auto& [name, ptr] : columns()) {
+        const auto& v = j.at(nlohmann::json::json_pointer(ptr));
+        std::string cell;
+        if (v.is_string()) cell = v.get<std::string>();
+        else if (v.is_boolean()) cell = v.get<bool>() ? "true" : "false";
+        else if (v.is_number_float()) {
+            char buf[64];
+            std::snprintf(buf, sizeof buf, "%.10g", v.get<double>());
+            cell = buf;
+        } else cell = v.dump();
+        if (cell.find_first_of(",\"\n") != std::string::npos) {
+            std::string q = "\"";
+            for (char ch : cell) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+            cell = q + "\"";
+        }
+        row += (row.empty() ? "" : ",") + cell;
+    }
+    return row + "\n";
+}
+
+std::string sim_summary(const nlohmann::json& j) {
+    std::ostringstream o;
+    char buf[512];
+    std::snprintf(buf, sizeof buf,
+                  "%s on %s: %u ICCs, FIFO %u: %llu cycles = %.4g ms at %.0f MHz, %llu passes, %llu ray groups\n",
+                  j["config"].get<std::string>().c_str(), j["scene"].get<std::string>().c_str(), j["iccs"].get<unsigned>(),
+                  j["fifo_depth"]["triangle"].get<unsigned>(), (unsigned long long)j["total_cycles"].get<std::uint64_t>(),
+                  j["time_ms"].get<double>(), j["clock_mhz"].get<double>(),
+                  (unsigned long long)j["passes"].get<std::uint64_t>(), (unsigned long long)j["ray_groups"].get<std::uint64_t>());
+    o << buf;
+    std::snprintf(buf, sizeof buf,
+                  "  links: sphere %llu records, %llu stall cycles; triangle %llu records, %llu stall cycles; RTI utilisation %.1f %%\n",
+                  (unsigned long long)j["links"]["sphere"]["records_sent"].get<std::uint64_t>(),
+                  (unsigned long long)j["links"]["sphere"]["stall_cycles"].get<std::uint64_t>(),
+                  (unsigned long long)j["links"]["triangle"]["records_sent"].get<std::uint64_t>(),
+                  (unsigned long long)j["links"]["triangle"]["stall_cycles"].get<std::uint64_t>(),
+                  100.0 * j["icc_totals"]["rti_utilisation"].get<double>());
+    o << buf;
+    std::string fm = j["functional_checked"].get<bool>() ? (j["functional_match"].get<bool>() ? "true" : "FALSE") : "not checked";
+    std::snprintf(buf, sizeof buf, "  functional_match: %s (%llu rays); model %.3f s wall, %.3g ICC-cycles/s\n", fm.c_str(),
+                  (unsigned long long)j["rays_checked"].get<std::uint64_t>(), j["wall"]["model_s"].get<double>(),
+                  j["wall"]["sim_icc_cycles_per_second"].get<double>());
+    o << buf;
+    return o.str();
+}
+
+}  // namespace raplas

@@ -1,0 +1,157 @@
+// Whole-machine tests: each runs one SystemC simulation (one per process:
+// ctest runs every test in its own process).
+#include <gtest/gtest.h>
+
+#include "hand_trace.hpp"
+#include "raplas/frontend/frame.hpp"
+#include "top.hpp"
+
+using namespace raplas;
+using namespace raplas::model;
+
+namespace {
+
+SimConfig base_config(std::uint32_t iccs, std::uint32_t depth) {
+    SimConfig c;
+    c.iccs = iccs;
+    c.icc.sphere_fifo.depth = depth;
+    c.icc.triangle_fifo.depth = depth;
+    c.icc.planeid_fifo.depth = 16;
+    c.functional = FunctionalMode::trace;
+    return c;
+}
+
+}  // namespace
+
+TEST(TopClosedForm, AllSpheresMissed) {
+    // Sphere i enters the PSI in cycle i+1 and is decided in cycle i+1+L;
+    // triangle i follows one cycle later: S + L_psi + 2 cycles in all.
+    const std::uint32_t S = 500;
+    Trace t = test::hand_trace(S, 16, 0, 0, std::vector<bool>(S, false));
+    SimConfig c = base_config(1, 1000);
+    SimResult r = simulate(t, c);
+    EXPECT_EQ(r.total_cycles, S + c.icc.psi.stages + 2);
+    EXPECT_EQ(r.triangle_link.records_sent, S);
+    EXPECT_EQ(r.triangle_link.stall_cycles, c.icc.psi.stages + 2);  // waiting for the first decision
+}
+
+TEST(TopClosedForm, EverySphereHitDeepFifo) {
+    // Every triangle needs m = 2 x 3 ray tests; the RTI is the bottleneck from
+    // the first triangle on: S*m + L_rti + L_psi + 3 cycles.
+    const std::uint32_t S = 300, m = 6;
+    Trace t = test::hand_trace(S, 16, 0b11, 0b111, std::vector<bool>(S, true));
+    SimConfig c = base_config(1, 1000);
+    SimResult r = simulate(t, c);
+    EXPECT_EQ(r.total_cycles, std::uint64_t(S) * m + c.icc.rti.stages + c.icc.psi.stages + 3);
+    EXPECT_EQ(r.iccs[0].rti.tests, std::uint64_t(S) * m);
+    EXPECT_EQ(r.iccs[0].rti.busy_cycles, std::uint64_t(S) * m);
+}
+
+TEST(TopClosedForm, DepthOneFifoHalvesTheRateOfOneRayTriangles) {
+    // A full FIFO refuses a push even when its reader pops in the same cycle:
+    // with depth 1 and one test per triangle the link delivers every other
+    // cycle: 2S + L_rti + L_psi + 2 cycles.
+    const std::uint32_t S = 200;
+    Trace t = test::hand_trace(S, 16, 0b1, 0b1, std::vector<bool>(S, true));
+    SimConfig c = base_config(1, 1);
+    c.icc.sphere_fifo.depth = 1000;
+    SimResult r = simulate(t, c);
+    EXPECT_EQ(r.total_cycles, 2ull * S + c.icc.rti.stages + c.icc.psi.stages + 2);
+}
+
+TEST(TopClosedForm, PassesAddUp) {
+    // 5 groups on 2 ICCs: 3 passes of S + L_psi + 2 cycles (+ overhead).
+    const std::uint32_t S = 100;
+    Trace t = test::hand_trace(S, 8, 0, 0, std::vector<bool>(S, false), 5);
+    SimConfig c = base_config(2, 1000);
+    c.pass_overhead_cycles = 7;
+    SimResult r = simulate(t, c);
+    EXPECT_EQ(r.host.passes, 3u);
+    EXPECT_EQ(r.total_cycles, 3ull * (S + c.icc.psi.stages + 2 + 7));
+    EXPECT_EQ(r.iccs[1].icc.groups, 2u);
+    EXPECT_EQ(r.iccs[1].icc.idle_cycles, S + c.icc.psi.stages + 2u);
+}
+
+TEST(TopStall, AFullTriangleFifoStopsTheBroadcastForEveryIccInTheSameCycle) {
+    // ICC 0's group hits every sphere with 16 rays per triangle; ICC 1's group
+    // hits none. ICC 0's Triangle FIFO fills, and in every cycle that starts
+    // with it full, no ICC receives a triangle.
+    const std::uint32_t S = 200;
+    Trace t = test::hand_trace(S, 4, 0b1111, 0b1111, std::vector<bool>(S, true), 2);
+    t.groups[1].sphere_hits.clear();
+    t.groups[1].counts.sphere_hits = 0;
+    SimConfig c = base_config(2, 4);
+    bool full_at_start = false, pending_at_start = true;
+    std::uint64_t stalled_cycles_seen = 0, full_cycles = 0, full_and_pending = 0;
+    SimOptions opt;
+    opt.on_cycle = [&](const Top& top, std::uint64_t, std::int64_t, std::int64_t tri) {
+        if (full_at_start) {
+            ++full_cycles;
+            full_and_pending += pending_at_start;
+            EXPECT_EQ(tri, -1);
+            if (tri == -1) ++stalled_cycles_seen;
+        }
+        const auto& a = top.iccs[0].triangle_selector.stats();
+        const auto& b = top.iccs[1].triangle_selector.stats();
+        EXPECT_EQ(a.selected + a.discarded, b.selected + b.discarded);  // same triangles, same cycles
+        full_at_start = top.iccs[0].triangle_fifo.full() || top.iccs[1].triangle_fifo.full();
+        pending_at_start = top.triangle_link.has_record();
+    };
+    SimResult r = simulate(t, c, opt);
+    EXPECT_GT(full_cycles, 100u);
+    EXPECT_EQ(stalled_cycles_seen, full_cycles);
+    EXPECT_EQ(r.iccs[1].triangle_selector.discarded, S);
+    EXPECT_EQ(r.iccs[0].triangle_selector.selected, S);
+    EXPECT_EQ(r.iccs[0].triangle_selector.blocked_fifo_full, full_and_pending);
+    EXPECT_EQ(r.iccs[1].triangle_selector.blocked_fifo_full, 0u);
+}
+
+namespace {
+void expect_functional_match(const SimConfig& c, int image, int group) {
+    ParamSet p = scene_params();
+    p.set("image.width=" + std::to_string(image));
+    p.set("image.height=" + std::to_string(image));
+    p.set("groups.size=" + std::to_string(group));
+    p.set("groups.shadow_size=" + std::to_string(group));
+    p.set("builtin_detail=2");
+    Scene scene = scene_from_params(p, "");
+    FrameOptions fo;
+    fo.record = true;
+    fo.format = c.format;
+    Frame f = render_frame(scene, fo);
+    Trace t = make_trace(scene, f, c.format);
+    SimResult r = simulate(t, c);
+    EXPECT_TRUE(r.functional_checked);
+    EXPECT_GT(r.rays_checked, 0u);
+    EXPECT_EQ(r.rays_mismatched, 0u);
+    EXPECT_TRUE(r.functional_match);
+}
+}  // namespace
+
+TEST(TopFunctional, MatchesTheFrontEndOneIccDeepFifo) {
+    SimConfig c = base_config(1, 1000);
+    c.functional = FunctionalMode::compute;
+    expect_functional_match(c, 24, 8);
+}
+
+TEST(TopFunctional, MatchesTheFrontEndFourIccsShallowFifo) {
+    SimConfig c = base_config(4, 3);
+    c.functional = FunctionalMode::compute;
+    c.icc.planeid_fifo.depth = 2;
+    expect_functional_match(c, 24, 8);
+}
+
+TEST(TopFunctional, MatchesTheFrontEndInFloat64WithFewPsiPipes) {
+    SimConfig c = base_config(3, 10);
+    c.functional = FunctionalMode::compute;
+    c.format = NumFormat::float64();
+    c.icc.psi.pipes = 4;
+    expect_functional_match(c, 16, 4);
+}
+
+TEST(TopFunctional, MatchesTheFrontEndInAnEmulatedFormat) {
+    SimConfig c = base_config(2, 100);
+    c.functional = FunctionalMode::compute;
+    c.format = NumFormat::parse("fp1-8-15");
+    expect_functional_match(c, 16, 8);
+}
