@@ -62,4 +62,39 @@ private:
     Stats stats_;
 };
 
+// The Sphere FIFO: every sphere of the stream enters it in order, so it
+// always holds a run of consecutive sphere ids; it is kept as (first, count).
+class SphereFifo : public sc_core::sc_module {
+public:
+    using Params = FifoParams;
+    using Stats = FifoStats;
+    SphereFifo(sc_core::sc_module_name name, const Params& p) : sc_core::sc_module(name), params_(p) {
+        if (p.depth == 0) throw std::invalid_argument(std::string(this->name()) + ": depth must be >= 1");
+    }
+    bool empty() const { return count_ == 0; }
+    bool full() const { return count_ == params_.depth; }
+    std::uint32_t size() const { return count_; }
+    std::uint32_t depth() const { return params_.depth; }
+    std::uint32_t front() const { return first_; }
+    void push(std::uint32_t sphere) {
+        if (count_ == 0) first_ = sphere;
+        ++count_;
+        ++stats_.pushes;
+        if (count_ > stats_.max_occupancy) stats_.max_occupancy = count_;
+    }
+    void pop() {
+        ++first_;
+        --count_;
+    }
+    void clear() { count_ = 0; }
+    void note_full() { ++stats_.full_cycles; }
+    const Stats& stats() const { return stats_; }
+    const Params& params() const { return params_; }
+
+private:
+    Params params_;
+    std::uint32_t first_ = 0, count_ = 0;
+    Stats stats_;
+};
+
 }  // namespace raplas::model

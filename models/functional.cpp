@@ -30,17 +30,8 @@ public:
             for (std::uint32_t v = 0; v < n_; ++v)
                 for (std::uint32_t h = 0; h < n_; ++h) rays_[v * n_ + h] = raplas::load(f_.a_, g.ray(h, v));
             group_sphere_hits(f_.a_, planes_.data(), n_, g.row_valid, g.col_valid, f_.spheres_, hits_);
-            cursor_ = 0;
         }
-        void psi(std::uint32_t sphere, std::uint64_t& rows, std::uint64_t& cols) override {
-            while (cursor_ < hits_.size() && hits_[cursor_].sphere < sphere) ++cursor_;
-            if (cursor_ < hits_.size() && hits_[cursor_].sphere == sphere) {
-                rows = hits_[cursor_].rows;
-                cols = hits_[cursor_].cols;
-            } else {
-                rows = cols = 0;
-            }
-        }
+        const std::vector<SphereHitRec>& sphere_hits() const override { return hits_; }
         bool rti(std::uint32_t ray, std::uint32_t tri, double& t) override {
             return ray_hits_triangle(f_.a_, rays_[ray], f_.tris_[tri], t);
         }
@@ -51,7 +42,6 @@ public:
         std::vector<PlaneA<A>> planes_;
         std::vector<RayA<A>> rays_;
         std::vector<SphereHitRec> hits_;
-        std::size_t cursor_ = 0;
     };
 
     std::unique_ptr<GroupUnit> make_unit() const override { return std::make_unique<Unit>(*this); }
@@ -67,26 +57,12 @@ public:
     TraceFunctional() { mode_ = FunctionalMode::trace; }
     class Unit final : public GroupUnit {
     public:
-        void load(const TraceGroup& g) override {
-            g_ = &g;
-            cursor_ = 0;
-        }
-        void psi(std::uint32_t sphere, std::uint64_t& rows, std::uint64_t& cols) override {
-            const auto& list = g_->sphere_hits;
-            // spheres arrive in stream order within a pass
-            while (cursor_ < list.size() && list[cursor_].sphere < sphere) ++cursor_;
-            if (cursor_ < list.size() && list[cursor_].sphere == sphere) {
-                rows = list[cursor_].rows;
-                cols = list[cursor_].cols;
-            } else {
-                rows = cols = 0;
-            }
-        }
+        void load(const TraceGroup& g) override { g_ = &g; }
+        const std::vector<SphereHitRec>& sphere_hits() const override { return g_->sphere_hits; }
         bool rti(std::uint32_t, std::uint32_t, double&) override { return false; }
 
     private:
         const TraceGroup* g_ = nullptr;
-        std::size_t cursor_ = 0;
     };
     std::unique_ptr<GroupUnit> make_unit() const override { return std::make_unique<Unit>(); }
 };

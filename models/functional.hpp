@@ -15,8 +15,9 @@ class GroupUnit {
 public:
     virtual ~GroupUnit() = default;
     virtual void load(const TraceGroup& g) = 0;
-    // Plane-Sphere Intersectors: row and column plane-hit masks of a sphere.
-    virtual void psi(std::uint32_t sphere, std::uint64_t& rows, std::uint64_t& cols) = 0;
+    // Plane-Sphere Intersectors' results for the loaded group: every sphere
+    // cut by a row and a column plane, ascending, with its masks.
+    virtual const std::vector<SphereHitRec>& sphere_hits() const = 0;
     // Ray-Triangle Intersector: true and t when ray (v*N+h) hits the triangle.
     virtual bool rti(std::uint32_t ray, std::uint32_t tri, double& t) = 0;
 };

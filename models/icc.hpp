@@ -77,7 +77,7 @@ public:
         if (!g) return;
         ++stats_.groups;
         unit_->load(*g);
-        psi.start_group(2 * g->n);
+        psi.start_group(2 * g->n, &unit_->sphere_hits());
         ray_data_fetcher.start_group(g->n);
         min_distance.reset(std::size_t(g->n) * g->n);
     }
@@ -98,13 +98,17 @@ public:
     void tick(std::int64_t sphere, std::int64_t tri, std::uint32_t tri_sphere, const SphereInfo& info,
               bool spheres_pending) {
         ++stats_.pass_cycles;
-        rti.retire(*unit_, min_distance);
-        ray_data_fetcher.tick(triangle_fifo, rti);
-        rti.advance();
+        if (rti.empty() && ray_data_fetcher.idle() && triangle_fifo.empty()) {
+            ray_data_fetcher.note_starved();  // nothing behind the Triangle Selector: skip the back end
+        } else {
+            rti.retire(*unit_, min_distance);
+            ray_data_fetcher.tick(triangle_fifo, rti);
+            rti.advance();
+        }
         if (tri >= 0)
             triangle_selector.receive(true, std::uint32_t(tri), tri_sphere, planeid_fifo, first_tri_fifo, triangle_fifo);
         const bool hold = decoder.tick(psi, planeid_fifo, first_tri_fifo, info);
-        psi.tick(sphere_fifo, *unit_, hold, spheres_pending || !sphere_fifo.empty());
+        psi.tick(sphere_fifo, hold, spheres_pending || !sphere_fifo.empty());
         if (sphere >= 0) sphere_selector.receive(true, std::uint32_t(sphere), sphere_fifo);
     }
     // Nothing left in flight behind the Triangle Selector.
@@ -121,7 +125,7 @@ public:
     const Stats& stats() const { return stats_; }
 
     SphereSelector sphere_selector;
-    Fifo<std::uint32_t> sphere_fifo;
+    SphereFifo sphere_fifo;
     PlaneSphereIntersector psi;
     Decoder decoder;
     Fifo<PlaneIdEntry> planeid_fifo;

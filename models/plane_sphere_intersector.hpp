@@ -5,7 +5,7 @@
 // result the whole pipe holds (no stage advances, nothing is issued).
 #pragma once
 
-#include <deque>
+#include <vector>
 
 #include "fifo.hpp"
 #include "functional.hpp"
@@ -34,21 +34,29 @@ public:
 
     PlaneSphereIntersector(sc_core::sc_module_name n, const Params& p) : sc_core::sc_module(n), params_(p) {}
 
-    void start_group(std::uint32_t planes) {
+    // `hits`: the group's spheres cut by a row and a column plane, ascending
+    // (the functional result of the pipes, see GroupUnit::sphere_hits).
+    void start_group(std::uint32_t planes, const std::vector<SphereHitRec>* hits) {
         planes_ = planes;
         batches_ = (planes + params_.pipes - 1) / params_.pipes;
         if (batches_ == 0) batches_ = 1;
-        inflight_.clear();
+        ring_.assign(params_.stages + 2, PsiResult{});
+        head_ = tail_ = count_ = 0;
         t_ = 0;
         next_issue_ = 0;
+        hits_ = hits;
+        cursor_ = 0;
     }
-    bool has_output() const { return !inflight_.empty() && inflight_.front().ready <= t_; }
-    const PsiResult& output() const { return inflight_.front(); }
-    void pop_output() { inflight_.pop_front(); }
-    bool empty() const { return inflight_.empty(); }
+    bool has_output() const { return count_ != 0 && ring_[head_].ready <= t_; }
+    const PsiResult& output() const { return ring_[head_]; }
+    void pop_output() {
+        head_ = head_ + 1 == ring_.size() ? 0 : head_ + 1;
+        --count_;
+    }
+    bool empty() const { return count_ == 0; }
 
     // One clock cycle, after the Decoder has looked at the output.
-    void tick(Fifo<std::uint32_t>& in, GroupUnit& unit, bool stalled, bool spheres_pending) {
+    void tick(SphereFifo& in, bool stalled, bool spheres_pending) {
         if (stalled) {
             ++stats_.stall_cycles;
             return;
@@ -56,12 +64,20 @@ public:
         if (t_ < next_issue_) {
             ++stats_.busy_cycles;  // later batches of the current sphere
         } else if (!in.empty()) {
-            PsiResult r;
+            PsiResult& r = ring_[tail_];
+            tail_ = tail_ + 1 == ring_.size() ? 0 : tail_ + 1;
+            ++count_;
             r.sphere = in.front();
             in.pop();
-            unit.psi(r.sphere, r.rows, r.cols);
+            const auto& list = *hits_;
+            while (cursor_ < list.size() && list[cursor_].sphere < r.sphere) ++cursor_;
+            if (cursor_ < list.size() && list[cursor_].sphere == r.sphere) {
+                r.rows = list[cursor_].rows;
+                r.cols = list[cursor_].cols;
+            } else {
+                r.rows = r.cols = 0;
+            }
             r.ready = t_ + batches_ - 1 + params_.stages;
-            inflight_.push_back(r);
             next_issue_ = t_ + batches_;
             ++stats_.spheres;
             stats_.plane_tests += planes_;
@@ -77,8 +93,11 @@ public:
 private:
     Params params_;
     std::uint32_t planes_ = 0, batches_ = 1;
-    std::deque<PsiResult> inflight_;
+    std::vector<PsiResult> ring_;  // in flight, oldest at head_
+    std::size_t head_ = 0, tail_ = 0, count_ = 0;
     std::uint64_t t_ = 0, next_issue_ = 0;
+    const std::vector<SphereHitRec>* hits_ = nullptr;
+    std::size_t cursor_ = 0;
     Stats stats_;
 };
 

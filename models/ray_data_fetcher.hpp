@@ -24,6 +24,7 @@ public:
         busy_ = false;
     }
     bool idle() const { return !busy_; }
+    void note_starved() { ++stats_.starved_cycles; }
 
     void tick(Fifo<TriWork>& in, RayTriangleIntersector& rti) {
         bool issued = false;

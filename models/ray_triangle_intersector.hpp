@@ -4,6 +4,7 @@
 // Min-distance Memory takes one result per pipe per cycle.
 #pragma once
 
+#include <algorithm>
 #include <vector>
 
 #include "functional.hpp"
@@ -27,12 +28,10 @@ public:
         std::uint64_t busy_cycles = 0;  // cycles with at least one pair entering
     };
     RayTriangleIntersector(sc_core::sc_module_name n, const Params& p)
-        : sc_core::sc_module(n), params_(p), ring_(p.stages) {
-        for (auto& s : ring_) s.reserve(p.pipes);
-    }
+        : sc_core::sc_module(n), params_(p), ops_(std::size_t(p.stages) * p.pipes), count_(p.stages, 0) {}
 
     void start_group() {
-        for (auto& s : ring_) s.clear();
+        std::fill(count_.begin(), count_.end(), 0u);
         idx_ = 0;
         inflight_ = 0;
     }
@@ -40,26 +39,27 @@ public:
     std::uint32_t inflight() const { return inflight_; }
     // Start of a cycle: the pairs that entered `stages` cycles ago leave.
     void retire(GroupUnit& unit, MinDistanceMemory& mem) {
-        auto& slot = ring_[idx_];
-        for (const RtiOp& op : slot) {
+        const std::uint32_t n = count_[idx_];
+        const RtiOp* slot = &ops_[std::size_t(idx_) * params_.pipes];
+        for (std::uint32_t i = 0; i < n; ++i) {
             double t;
-            if (unit.rti(op.ray, op.tri, t)) {
+            if (unit.rti(slot[i].ray, slot[i].tri, t)) {
                 ++stats_.hits;
-                mem.update(op.ray, t, op.tri);
+                mem.update(slot[i].ray, t, slot[i].tri);
             }
         }
-        inflight_ -= std::uint32_t(slot.size());
-        slot.clear();
+        inflight_ -= n;
+        count_[idx_] = 0;
     }
-    bool can_issue() const { return ring_[idx_].size() < params_.pipes; }
+    bool can_issue() const { return count_[idx_] < params_.pipes; }
     void issue(const RtiOp& op) {
-        ring_[idx_].push_back(op);
+        ops_[std::size_t(idx_) * params_.pipes + count_[idx_]++] = op;
         ++inflight_;
         ++stats_.tests;
     }
     // End of a cycle.
     void advance() {
-        if (!ring_[idx_].empty()) ++stats_.busy_cycles;
+        if (count_[idx_]) ++stats_.busy_cycles;
         idx_ = idx_ + 1 == params_.stages ? 0 : idx_ + 1;
     }
     const Params& params() const { return params_; }
@@ -67,7 +67,8 @@ public:
 
 private:
     Params params_;
-    std::vector<std::vector<RtiOp>> ring_;
+    std::vector<RtiOp> ops_;             // stages x pipes slots
+    std::vector<std::uint32_t> count_;   // pairs in each stage's slot
     std::uint32_t idx_ = 0, inflight_ = 0;
     Stats stats_;
 };

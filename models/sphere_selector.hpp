@@ -16,12 +16,12 @@ public:
     };
     SphereSelector(sc_core::sc_module_name n, const Params& p = {}) : sc_core::sc_module(n), params_(p) {}
 
-    bool ready(bool active, const Fifo<std::uint32_t>& fifo) const { return !active || !fifo.full(); }
-    void note_blocked(Fifo<std::uint32_t>& fifo) {
+    bool ready(bool active, const SphereFifo& fifo) const { return !active || !fifo.full(); }
+    void note_blocked(SphereFifo& fifo) {
         ++stats_.blocked_link_cycles;
         fifo.note_full();
     }
-    void receive(bool active, std::uint32_t sphere, Fifo<std::uint32_t>& fifo) {
+    void receive(bool active, std::uint32_t sphere, SphereFifo& fifo) {
         if (!active) return;
         fifo.push(sphere);
         ++stats_.received;

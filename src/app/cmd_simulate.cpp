@@ -42,8 +42,9 @@ void add_simulate_options(CLI::App* cmd, SimulateArgs& a) {
     a.so.add_to(cmd, false);
     cmd->add_option("--config,-c", a.config, "machine config: a TOML file or a name in configs/ (paper, fpga)");
     cmd->add_option("--trace", a.trace, "simulate a trace file written by 'raplas trace' instead of a scene");
-    cmd->add_option("--iccs,-k", a.iccs, "ICC count (overrides machine.iccs)");
-    cmd->add_option("--fifo,-d", a.fifo, "Sphere and Triangle FIFO depth (overrides fifo.sphere_depth and fifo.triangle_depth)");
+    cmd->add_option("--iccs,-k", a.iccs, "ICC count (overrides machine.iccs)")->check(CLI::Range(1u, 4096u));
+    cmd->add_option("--fifo,-d", a.fifo, "Sphere and Triangle FIFO depth (overrides fifo.sphere_depth and fifo.triangle_depth)")
+        ->check(CLI::Range(1u, 100000000u));
     cmd->add_option("--json", a.json, "all statistics as JSON");
     cmd->add_option("--csv", a.csv, "the main figures as one CSV row with a header");
     cmd->add_option("--vcd", a.vcd, "VCD waveform of the top-level handshakes (GTKWave)");

@@ -12,7 +12,12 @@ TriangleRec make_triangle_record(const Mesh& mesh, std::size_t i) {
     return {to_f(v0), to_f(e1), to_f(e2), to_f(cross(e1, e2))};
 }
 
-double conservative_margin(double unit_roundoff, double extent) { return 64.0 * unit_roundoff * extent; }
+double conservative_margin(double unit_roundoff, double extent) {
+    // Planes, spheres and rays are float32 records in every format, so their
+    // own rounding bounds the error from below even in float64.
+    const double u = std::max(unit_roundoff, NumFormat::float32().unit_roundoff());
+    return 64.0 * u * extent;
+}
 
 namespace {
 

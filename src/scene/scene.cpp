@@ -79,8 +79,7 @@ std::string resolve_mesh_path(const std::string& mesh, const std::string& scene_
     throw InputError("mesh '" + mesh + "' not found (searched: " + tried + ")");
 }
 
-Camera auto_camera(const Mesh& m, double fov_deg) {
-    Aabb b = m.bounds();
+Camera auto_camera(const Aabb& b, double fov_deg) {
     Vec3d c = b.center();
     double r = std::max(length(b.extent()) * 0.5, 1e-6);
     Camera cam;
@@ -93,8 +92,7 @@ Camera auto_camera(const Mesh& m, double fov_deg) {
     return cam;
 }
 
-AreaLight auto_light(const Mesh& m) {
-    Aabb b = m.bounds();
+AreaLight auto_light(const Aabb& b) {
     Vec3d c = b.center();
     double r = std::max(length(b.extent()) * 0.5, 1e-6);
     AreaLight l;
@@ -144,6 +142,7 @@ Scene scene_from_params(const ParamSet& p, const std::string& mesh_override) {
         s.mesh = builtin_mesh(static_cast<int>(p.get_int("builtin_detail")));
         if (!p.is_given("name")) s.name = "builtin";
     }
+    const Aabb object_bounds = s.mesh.bounds();
     if (p.get_bool("floor")) add_floor(s.mesh);
     s.diagonal = length(s.mesh.bounds().extent());
 
@@ -164,7 +163,7 @@ Scene scene_from_params(const ParamSet& p, const std::string& mesh_override) {
     } else if (builtin) {
         s.camera = {{3.2, 2.6, 5.2}, {0.0, 0.7, -0.4}, {0, 1, 0}, fov};
     } else {
-        s.camera = auto_camera(s.mesh, fov);
+        s.camera = auto_camera(object_bounds, fov);
         s.camera_auto = true;
     }
     auto lc = p.get_vec3("light.corner"), lu = p.get_vec3("light.edge_u"), lv = p.get_vec3("light.edge_v");
@@ -180,7 +179,7 @@ Scene scene_from_params(const ParamSet& p, const std::string& mesh_override) {
         s.light.edge_u = {1.2, 0, 0};
         s.light.edge_v = {0, 0, 1.2};
     } else {
-        s.light = auto_light(s.mesh);
+        s.light = auto_light(object_bounds);
         s.light_auto = true;
     }
     s.light.emission = *p.get_vec3("light.emission");

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <toml++/toml.h>
@@ -206,6 +207,8 @@ void ParamSet::load_text(const std::string& text, const std::string& origin) {
 }
 
 void ParamSet::load_file(const std::string& path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) throw InputError(path + ": is a directory, not a " + what_ + " file");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(path + ": cannot open " + what_ + " file");
     std::stringstream ss;

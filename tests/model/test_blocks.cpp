@@ -8,16 +8,16 @@ using namespace raplas::model;
 
 namespace {
 
-// A GroupUnit whose plane tests hit every sphere with fixed masks and whose
+// A GroupUnit whose plane tests hit spheres 0..99 with fixed masks and whose
 // ray-triangle tests hit at t = ray + 1.
 class FixedUnit : public GroupUnit {
 public:
-    std::uint64_t rows = 1, cols = 1;
-    void load(const TraceGroup&) override {}
-    void psi(std::uint32_t, std::uint64_t& r, std::uint64_t& c) override {
-        r = rows;
-        c = cols;
+    std::vector<SphereHitRec> hits;
+    FixedUnit() {
+        for (std::uint32_t s = 0; s < 100; ++s) hits.push_back({s, 1, 1});
     }
+    void load(const TraceGroup&) override {}
+    const std::vector<SphereHitRec>& sphere_hits() const override { return hits; }
     bool rti(std::uint32_t ray, std::uint32_t, double& t) override {
         t = ray + 1.0;
         return true;
@@ -28,9 +28,9 @@ public:
 
 TEST(PlaneSphereIntersector, FirstResultExactlyTenCyclesAfterItsInput) {
     PlaneSphereIntersector psi("psi_a", {32, 10});
-    Fifo<std::uint32_t> in("fifo_a", {8});
+    SphereFifo in("fifo_a", {8});
     FixedUnit unit;
-    psi.start_group(32);
+    psi.start_group(32, &unit.sphere_hits());
     in.push(7);
     std::int64_t out_cycle = -1;
     for (std::uint64_t c = 0; c < 30 && out_cycle < 0; ++c) {
@@ -39,7 +39,7 @@ TEST(PlaneSphereIntersector, FirstResultExactlyTenCyclesAfterItsInput) {
             EXPECT_EQ(psi.output().sphere, 7u);
             break;
         }
-        psi.tick(in, unit, false, false);  // input enters in cycle 0
+        psi.tick(in, false, false);  // input enters in cycle 0
     }
     EXPECT_EQ(out_cycle, 10);
 }
@@ -48,9 +48,9 @@ TEST(PlaneSphereIntersector, PlanesBeyondThePipesTakeExtraCycles) {
     // 32 planes on 8 pipes: 4 batches, result 3 + 10 cycles after the first batch;
     // the next sphere enters 4 cycles after the first.
     PlaneSphereIntersector psi("psi_b", {8, 10});
-    Fifo<std::uint32_t> in("fifo_b", {8});
+    SphereFifo in("fifo_b", {8});
     FixedUnit unit;
-    psi.start_group(32);
+    psi.start_group(32, &unit.sphere_hits());
     in.push(1);
     in.push(2);
     std::vector<std::uint64_t> outs;
@@ -59,7 +59,7 @@ TEST(PlaneSphereIntersector, PlanesBeyondThePipesTakeExtraCycles) {
             outs.push_back(c);
             psi.pop_output();
         }
-        psi.tick(in, unit, false, false);
+        psi.tick(in, false, false);
     }
     ASSERT_EQ(outs.size(), 2u);
     EXPECT_EQ(outs[0], 13u);
@@ -68,9 +68,9 @@ TEST(PlaneSphereIntersector, PlanesBeyondThePipesTakeExtraCycles) {
 
 TEST(PlaneSphereIntersector, HoldsWholePipeWhileTheDecoderIsFull) {
     PlaneSphereIntersector psi("psi_c", {32, 10});
-    Fifo<std::uint32_t> in("fifo_c", {8});
+    SphereFifo in("fifo_c", {8});
     FixedUnit unit;
-    psi.start_group(32);
+    psi.start_group(32, &unit.sphere_hits());
     in.push(1);
     in.push(2);
     std::vector<std::uint64_t> outs;
@@ -83,7 +83,7 @@ TEST(PlaneSphereIntersector, HoldsWholePipeWhileTheDecoderIsFull) {
                 psi.pop_output();
             }
         }
-        psi.tick(in, unit, hold, false);
+        psi.tick(in, hold, false);
     }
     // sphere 1 ready at 10 but held until 15; sphere 2 entered at 1, one stage
     // behind, so it leaves the cycle after

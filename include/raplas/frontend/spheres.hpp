@@ -45,6 +45,7 @@ TriangleRec make_triangle_record(const Mesh& mesh, std::size_t i);
 
 // Radius margin that keeps the plane-sphere test conservative in a format
 // with unit roundoff u, for coordinates (geometry, eye, light) up to `extent`.
+// u is taken as at least float32's: the records themselves are float32.
 double conservative_margin(double unit_roundoff, double extent);
 
 }  // namespace raplas

@@ -29,10 +29,11 @@ struct Mesh {
     Vec3f corner(std::size_t tri, int k) const { return vertices[triangles[tri][static_cast<std::size_t>(k)]]; }
 };
 
-// Loads an OBJ (and its MTL when present): polygons are triangulated as fans,
-// Kd is the diffuse colour, Ke the emission. Every problem (missing/empty
-// file, non-finite coordinate, bad index, face with < 3 vertices) throws
-// InputError "FILE:LINE: ...".
+// Loads an OBJ (and its MTL when present): polygons are triangulated by
+// tinyobjloader (a quad along its shorter diagonal, larger polygons by ear
+// clipping), Kd is the diffuse colour, Ke the emission. Every problem
+// (missing/empty file, non-finite coordinate, bad index, face with < 3
+// vertices) throws InputError "FILE:LINE: ...".
 Mesh load_obj(const std::string& path);
 
 // Procedural default scene (no file needed): a floor, a back wall, a box and

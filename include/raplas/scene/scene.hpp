@@ -65,8 +65,9 @@ Scene load_scene(const SceneRequest& req);
 Scene scene_from_params(const ParamSet& p, const std::string& mesh_override);
 
 // Automatic framing and lighting from the mesh bounds.
-Camera auto_camera(const Mesh& m, double fov_deg);
-AreaLight auto_light(const Mesh& m);
+// (Framing uses the bounds of the mesh as loaded, before any floor is added.)
+Camera auto_camera(const Aabb& bounds, double fov_deg);
+AreaLight auto_light(const Aabb& bounds);
 // Appends a floor quad just below the mesh (scene key `floor`).
 void add_floor(Mesh& m);
 
