@@ -21,6 +21,9 @@ ParamSet machine_params() {
                  "when the Triangle Stream Link stops: any_full = any Triangle FIFO full (paper §3.1); "
                  "needed_full = only when an ICC that needs the triangle is full",
                  {"any_full", "needed_full"});
+    p.add_int("link.triangle_lag_cycles", 0, 0, 1000000,
+              "cycles the Triangle Stream Link waits at the start of a pass before its first record "
+              "(it also waits, as always, for undecided spheres)");
     p.add_int("link.sphere_record_bytes", 16, 1, 1024, "bytes per sphere record (paper: 6.4 GB/s at 400 MHz)");
     p.add_int("link.triangle_record_bytes", 39, 1, 1024, "bytes per triangle record (paper: 15.6 GB/s at 400 MHz)");
     p.add_int("link.result_bytes", 6, 1, 1024, "bytes per ray result on the Output Link (Min-distance Memory entry)");
@@ -58,6 +61,7 @@ SimConfig config_from_params(const ParamSet& p) {
     c.icc.output.entry_bytes = std::uint32_t(p.get_int("link.result_bytes"));
     c.icc.min_distance.entry_bytes = c.icc.output.entry_bytes;
     c.pass_overhead_cycles = std::uint64_t(p.get_int("host.pass_overhead_cycles"));
+    c.triangle_lag_cycles = std::uint64_t(p.get_int("link.triangle_lag_cycles"));
     c.group_size = std::uint32_t(p.get_int("workload.group_size"));
     c.shadow_group_size = std::uint32_t(p.get_int("workload.shadow_group_size"));
     c.triangles_per_sphere = std::uint32_t(p.get_int("workload.triangles_per_sphere"));

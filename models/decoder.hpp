@@ -29,6 +29,7 @@ public:
     Decoder(sc_core::sc_module_name n, const Params& p = {}) : sc_core::sc_module(n), params_(p) {}
 
     void start_group() { decided_ = 0; }
+    void end_group() { stats_.decided += decided_; }
     std::uint32_t decided() const { return decided_; }
 
     // Returns true when the PSI must hold this cycle.
@@ -49,7 +50,6 @@ public:
             ++stats_.sphere_hits;
         }
         decided_ = r.sphere + 1;
-        ++stats_.decided;
         psi.pop_output();
         return false;
     }

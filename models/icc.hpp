@@ -76,6 +76,9 @@ public:
         rti.start_group();
         if (!g) return;
         ++stats_.groups;
+        selected_before_ = triangle_selector.stats().selected;
+        sphere_pushes_before_ = sphere_fifo.stats().pushes;
+        rti_busy_before_ = rti.stats().busy_cycles;
         unit_->load(*g);
         psi.start_group(2 * g->n, &unit_->sphere_hits());
         ray_data_fetcher.start_group(g->n);
@@ -97,10 +100,7 @@ public:
     // One clock cycle. `sphere` / `tri` are the records broadcast this cycle (-1: none).
     void tick(std::int64_t sphere, std::int64_t tri, std::uint32_t tri_sphere, const SphereInfo& info,
               bool spheres_pending) {
-        ++stats_.pass_cycles;
-        if (rti.empty() && ray_data_fetcher.idle() && triangle_fifo.empty()) {
-            ray_data_fetcher.note_starved();  // nothing behind the Triangle Selector: skip the back end
-        } else {
+        if (!(rti.empty() && ray_data_fetcher.idle() && triangle_fifo.empty())) {  // else nothing behind the Selector
             rti.retire(*unit_, min_distance);
             ray_data_fetcher.tick(triangle_fifo, rti);
             rti.advance();
@@ -114,8 +114,15 @@ public:
     // Nothing left in flight behind the Triangle Selector.
     bool drained() const { return triangle_fifo.empty() && ray_data_fetcher.idle() && rti.empty(); }
 
-    // End of pass: results out through the Output Link.
-    const std::vector<Hit>& finish_pass() {
+    // End of pass (`cycles` long, `triangles` broadcast): derived figures,
+    // then the results out through the Output Link.
+    const std::vector<Hit>& finish_pass(std::uint64_t cycles, std::uint64_t triangles) {
+        stats_.pass_cycles += cycles;
+        psi.end_group();
+        decoder.end_group();
+        triangle_selector.end_group(triangles, selected_before_);
+        sphere_selector.end_group(sphere_fifo.stats().pushes - sphere_pushes_before_);
+        ray_data_fetcher.add_starved(cycles - (rti.stats().busy_cycles - rti_busy_before_));
         if (functional_.mode() == FunctionalMode::trace) min_distance.set(group_->hits);
         output.send(std::uint64_t(group_->n) * group_->n);
         return min_distance.hits();
@@ -142,6 +149,7 @@ private:
     std::unique_ptr<GroupUnit> unit_;
     const Functional& functional_;
     const TraceGroup* group_ = nullptr;
+    std::uint64_t selected_before_ = 0, sphere_pushes_before_ = 0, rti_busy_before_ = 0;
     Stats stats_;
 };
 

@@ -47,6 +47,13 @@ public:
         hits_ = hits;
         cursor_ = 0;
     }
+    // End of a pass: figures that follow from the spheres tested.
+    void end_group() {
+        stats_.spheres += group_spheres_;
+        stats_.plane_tests += group_spheres_ * planes_;
+        stats_.busy_cycles += group_spheres_ * batches_;  // each sphere occupies the input for its batches
+        group_spheres_ = 0;
+    }
     bool has_output() const { return count_ != 0 && ring_[head_].ready <= t_; }
     const PsiResult& output() const { return ring_[head_]; }
     void pop_output() {
@@ -62,7 +69,7 @@ public:
             return;
         }
         if (t_ < next_issue_) {
-            ++stats_.busy_cycles;  // later batches of the current sphere
+            // later batches of the current sphere
         } else if (!in.empty()) {
             PsiResult& r = ring_[tail_];
             tail_ = tail_ + 1 == ring_.size() ? 0 : tail_ + 1;
@@ -79,9 +86,7 @@ public:
             }
             r.ready = t_ + batches_ - 1 + params_.stages;
             next_issue_ = t_ + batches_;
-            ++stats_.spheres;
-            stats_.plane_tests += planes_;
-            ++stats_.busy_cycles;
+            ++group_spheres_;
         } else if (spheres_pending) {
             ++stats_.starved_cycles;
         }
@@ -98,6 +103,7 @@ private:
     std::uint64_t t_ = 0, next_issue_ = 0;
     const std::vector<SphereHitRec>* hits_ = nullptr;
     std::size_t cursor_ = 0;
+    std::uint64_t group_spheres_ = 0;
     Stats stats_;
 };
 

@@ -15,7 +15,7 @@ public:
     struct Params {};
     struct Stats {
         std::uint64_t triangles = 0;
-        std::uint64_t starved_cycles = 0;  // nothing to issue while the pass runs
+        std::uint64_t starved_cycles = 0;  // pass cycles in which no pair was issued
     };
     RayDataFetcher(sc_core::sc_module_name n, const Params& p = {}) : sc_core::sc_module(n), params_(p) {}
 
@@ -24,10 +24,9 @@ public:
         busy_ = false;
     }
     bool idle() const { return !busy_; }
-    void note_starved() { ++stats_.starved_cycles; }
+    void add_starved(std::uint64_t cycles) { stats_.starved_cycles += cycles; }
 
     void tick(Fifo<TriWork>& in, RayTriangleIntersector& rti) {
-        bool issued = false;
         while (rti.can_issue()) {
             if (!busy_) {
                 if (in.empty()) break;
@@ -41,7 +40,6 @@ public:
             const std::uint32_t v = std::uint32_t(__builtin_ctzll(rows_left_));
             const std::uint32_t h = std::uint32_t(__builtin_ctzll(cols_left_));
             rti.issue({v * n_ + h, cur_.tri});
-            issued = true;
             cols_left_ &= cols_left_ - 1;
             if (!cols_left_) {
                 rows_left_ &= rows_left_ - 1;
@@ -49,7 +47,6 @@ public:
                 if (!rows_left_) busy_ = false;
             }
         }
-        if (!issued) ++stats_.starved_cycles;
     }
     // Cycles of RTI work still held (current triangle only).
     std::uint64_t pending_pairs() const {

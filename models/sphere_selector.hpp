@@ -24,8 +24,8 @@ public:
     void receive(bool active, std::uint32_t sphere, SphereFifo& fifo) {
         if (!active) return;
         fifo.push(sphere);
-        ++stats_.received;
     }
+    void end_group(std::uint64_t received) { stats_.received += received; }
     const Stats& stats() const { return stats_; }
     const Params& params() const { return params_; }
 

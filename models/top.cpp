@@ -142,46 +142,42 @@ std::uint64_t Top::run_pass(const Host::Pass& p) {
     std::uint64_t last_sig = progress_signature(), last_change = 0;
     for (;;) {
         std::int64_t s = -1, t = -1;
-        std::uint32_t ts = 0;
-        bool s_stall = false, t_stall = false;
-        if (sphere_link.has_record()) {
-            bool ok = true;
+        const bool s_has = sphere_link.has_record();
+        const bool t_has = triangle_link.has_record() && cycle >= cfg_.triangle_lag_cycles;
+        const std::uint32_t ti = std::uint32_t(triangle_link.position());
+        const std::uint32_t ts = t_has ? triangle_memory.sphere_of(ti) : 0;
+        // Every ICC must be able to take a record for it to be broadcast
+        // (judged on the state at the start of the cycle).
+        bool s_ok = s_has, t_ok = t_has;
+        for (Icc* c : active) {
+            s_ok = s_ok && c->sphere_ready();
+            t_ok = t_ok && c->triangle_ready(ts);
+        }
+        if (s_has && !s_ok)
             for (Icc* c : active)
-                if (!c->sphere_ready()) {
-                    ok = false;
-                    c->note_sphere_blocked();
-                }
-            if (ok) {
-                s = std::int64_t(sphere_link.position());
-                sphere_memory.read(std::size_t(s));
-                sphere_link.sent();
-            } else {
-                sphere_link.stalled();
-                s_stall = true;
-            }
+                if (!c->sphere_ready()) c->note_sphere_blocked();
+        if (t_has && !t_ok)
+            for (Icc* c : active)
+                if (!c->triangle_ready(ts)) c->note_triangle_blocked(ts);
+        if (s_ok) {
+            s = std::int64_t(sphere_link.position());
+            sphere_memory.read(std::size_t(s));
+            sphere_link.sent();
+        } else if (s_has) {
+            sphere_link.stalled();
         } else {
             sphere_link.idle();
         }
-        if (triangle_link.has_record()) {
-            const std::uint32_t i = std::uint32_t(triangle_link.position());
-            ts = triangle_memory.sphere_of(i);
-            bool ok = true;
-            for (Icc* c : active)
-                if (!c->triangle_ready(ts)) {
-                    ok = false;
-                    c->note_triangle_blocked(ts);
-                }
-            if (ok) {
-                t = i;
-                triangle_memory.read(i);
-                triangle_link.sent();
-            } else {
-                triangle_link.stalled();
-                t_stall = true;
-            }
-        } else {
+        if (t_ok) {
+            t = ti;
+            triangle_memory.read(ti);
+            triangle_link.sent();
+        } else if (t_has) {
+            triangle_link.stalled();
+        } else if (!triangle_link.has_record()) {
             triangle_link.idle();
         }
+        const bool s_stall = s_has && !s_ok, t_stall = t_has && !t_ok;
         const bool spheres_pending = sphere_link.has_record();
         for (Icc* c : active) c->tick(s, t, ts, info, spheres_pending);
         ++cycle;
@@ -213,7 +209,7 @@ void Top::check_pass(const Host::Pass& p) {
     for (std::size_t k = 0; k < iccs.size(); ++k) {
         if (!iccs[k].active()) continue;
         const TraceGroup& g = trace_.groups[p.begin + k];
-        const std::vector<Hit>& hits = iccs[k].finish_pass();
+        const std::vector<Hit>& hits = iccs[k].finish_pass(pass_len_, triangle_memory.size());
         if (functional_.mode() != FunctionalMode::compute) continue;
         for (std::uint32_t v = 0; v < g.n; ++v)
             for (std::uint32_t h = 0; h < g.n; ++h) {
@@ -231,6 +227,7 @@ void Top::run() {
         for (std::size_t i = 0; i < passes.size(); ++i) {
             if (vcd_) vcd_->pass = std::uint32_t(i);
             std::uint64_t c = run_pass(passes[i]);
+            pass_len_ = c;
             check_pass(passes[i]);
             c += cfg_.pass_overhead_cycles;
             result_.pass_cycles.push_back(c);

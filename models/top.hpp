@@ -86,6 +86,7 @@ private:
     SimResult result_;
     std::string error_;
     std::uint64_t since_sync_ = 0;
+    std::uint64_t pass_len_ = 0;
 
     struct Vcd;
     std::unique_ptr<Vcd> vcd_;

@@ -50,10 +50,7 @@ public:
     void receive(bool active, std::uint32_t tri, std::uint32_t sphere, Fifo<PlaneIdEntry>& plane_ids,
                  Fifo<FirstTriEntry>& first_ids, Fifo<TriWork>& tri_fifo) {
         if (!active) return;
-        if (!wants(sphere, first_ids)) {
-            ++stats_.discarded;
-            return;
-        }
+        if (!wants(sphere, first_ids)) return;  // discarded (counted at the end of the pass)
         const PlaneIdEntry& p = plane_ids.front();
         tri_fifo.push({tri, p.rows, p.cols});
         ++stats_.selected;
@@ -62,6 +59,10 @@ public:
             plane_ids.pop();
             first_ids.pop();
         }
+    }
+    // End of a pass in which `received` triangles passed this ICC.
+    void end_group(std::uint64_t received, std::uint64_t selected_before) {
+        stats_.discarded += received - (stats_.selected - selected_before);
     }
     const Params& params() const { return params_; }
     const Stats& stats() const { return stats_; }

@@ -166,6 +166,7 @@ TEST(TriangleSelector, WaitsForTheDecisionThenSelectsOrDiscards) {
     sel.receive(true, 9, 2, pid, ftid, tf);   // sphere 2: not hit, discarded
     sel.receive(true, 10, 3, pid, ftid, tf);  // first of sphere 3
     sel.receive(true, 11, 3, pid, ftid, tf);  // last of sphere 3: entry popped
+    sel.end_group(3, 0);                      // 3 triangles passed, 2 selected
     EXPECT_EQ(sel.stats().discarded, 1u);
     EXPECT_EQ(sel.stats().selected, 2u);
     EXPECT_TRUE(ftid.empty());
