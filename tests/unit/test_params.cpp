@@ -1,0 +1,429 @@
+// ParamSet (declared, validated TOML parameters) and scene files.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <string>
+
+#include "raplas/scene/scene.hpp"
+#include "raplas/util/error.hpp"
+#include "raplas/util/params.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using raplas::InputError;
+using raplas::ParamSet;
+using raplas::Vec3d;
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+using ::testing::Not;
+
+class ParamsTest : public ::testing::Test {
+protected:
+    fs::path dir;
+    void SetUp() override {
+        std::string tmpl = (fs::path(::testing::TempDir()) / "raplas_params_XXXXXX").string();
+        ASSERT_NE(::mkdtemp(tmpl.data()), nullptr);
+        dir = tmpl;
+    }
+    void TearDown() override {
+        std::error_code ec;
+        fs::remove_all(dir, ec);
+    }
+    std::string write(const std::string& name, const std::string& text) {
+        const std::string p = (dir / name).string();
+        std::ofstream(p, std::ios::binary) << text;
+        return p;
+    }
+    static ParamSet make() {
+        ParamSet p("test");
+        p.add_int("count", 4, 1, 100, "an integer 1..100");
+        p.add_real("scale", 1.5, 0.0, 10.0, "a real 0..10");
+        p.add_bool("flag", false, "a flag");
+        p.add_string("mode", std::string("fast"), "a choice", {"fast", "slow", "two words"});
+        p.add_string("label", std::nullopt, "free text, optional");
+        p.add_vec3("pos", std::nullopt, "optional vector");
+        p.add_vec3("dir", Vec3d(0, 1, 0), "vector with default");
+        p.add_int("sec.n", 7, -5, 5000, "in a section");
+        p.add_real("sec.x", 0.25, -1e9, 1e9, "in a section");
+        return p;
+    }
+    // The message of the InputError that f throws ("" if none).
+    template <class F>
+    static std::string error_of(F&& f) {
+        try {
+            f();
+        } catch (const InputError& e) {
+            return e.what();
+        }
+        return "";
+    }
+};
+
+TEST_F(ParamsTest, DefaultsAndFileValues) {
+    ParamSet p = make();
+    EXPECT_EQ(p.get_int("count"), 4);
+    EXPECT_EQ(p.get_real("scale"), 1.5);
+    EXPECT_FALSE(p.get_bool("flag"));
+    EXPECT_EQ(p.get_string("mode"), "fast");
+    EXPECT_EQ(p.get_string("label"), "");
+    EXPECT_FALSE(p.get_vec3("pos").has_value());
+    EXPECT_EQ(*p.get_vec3("dir"), Vec3d(0, 1, 0));
+    EXPECT_FALSE(p.is_given("count"));
+    EXPECT_EQ(p.origin("count"), "default");
+
+    const std::string f = write("a.toml",
+                                "# comment\n"
+                                "count = 9\n"
+                                "scale = 3\n"             // an integer is a valid real
+                                "flag = true\n"
+                                "mode = \"slow\"\n"
+                                "pos = [1, -2.5, 3e2]\n"
+                                "\n"
+                                "[sec]\n"
+                                "n = -5\n"
+                                "x = 1e8\n");
+    p.load_file(f);
+    EXPECT_EQ(p.get_int("count"), 9);
+    EXPECT_EQ(p.get_real("scale"), 3.0);
+    EXPECT_TRUE(p.get_bool("flag"));
+    EXPECT_EQ(p.get_string("mode"), "slow");
+    ASSERT_TRUE(p.get_vec3("pos").has_value());
+    EXPECT_EQ(*p.get_vec3("pos"), Vec3d(1, -2.5, 300));
+    EXPECT_EQ(p.get_int("sec.n"), -5);
+    EXPECT_EQ(p.get_real("sec.x"), 1e8);
+    EXPECT_TRUE(p.is_given("count"));
+    EXPECT_FALSE(p.is_given("label"));
+    EXPECT_EQ(p.origin("count"), f + ":2");
+    EXPECT_EQ(p.origin("sec.n"), f + ":9");
+    EXPECT_EQ(p.file_dir(), dir.string());
+}
+
+TEST_F(ParamsTest, DottedKeysAndInlineTablesAreTheSameKeys) {
+    ParamSet p = make();
+    p.load_text("sec.n = 11\n", "inline");
+    EXPECT_EQ(p.get_int("sec.n"), 11);
+    p.load_text("sec = { x = -2.0 }\n", "inline");
+    EXPECT_EQ(p.get_real("sec.x"), -2.0);
+}
+
+TEST_F(ParamsTest, UnknownKeyNamesFileLineAndKey) {
+    ParamSet p = make();
+    const std::string f = write("u.toml", "count = 3\n\ncolour = 5\n");
+    std::string msg = error_of([&] { p.load_file(f); });
+    EXPECT_THAT(msg, AllOf(HasSubstr(f + ":3"), HasSubstr("'colour'"), HasSubstr("unknown")));
+    // known keys are listed to help the user
+    EXPECT_THAT(msg, HasSubstr("count"));
+    // in a section: the full dotted key
+    const std::string g = write("s.toml", "[sec]\nn = 1\nnn = 2\n");
+    msg = error_of([&] { make().load_file(g); });
+    EXPECT_THAT(msg, AllOf(HasSubstr(g + ":3"), HasSubstr("'sec.nn'")));
+    // a section that does not exist
+    const std::string h = write("t.toml", "count = 1\n[nosuch]\nz = 1\n");
+    msg = error_of([&] { make().load_file(h); });
+    EXPECT_THAT(msg, AllOf(HasSubstr(h + ":3"), HasSubstr("'nosuch.z'")));
+}
+
+TEST_F(ParamsTest, WrongTypesAreRejectedWithFileLineAndKey) {
+    struct Case {
+        const char* text;
+        const char* key;
+        int line;
+    };
+    const Case cases[] = {
+        {"count = \"three\"\n", "count", 1},
+        {"\ncount = 2.5\n", "count", 2},           // a real is not an integer
+        {"count = true\n", "count", 1},
+        {"scale = \"big\"\n", "scale", 1},
+        {"scale = false\n", "scale", 1},
+        {"scale = [1, 2, 3]\n", "scale", 1},
+        {"flag = 1\n", "flag", 1},
+        {"flag = \"true\"\n", "flag", 1},
+        {"mode = 5\n", "mode", 1},
+        {"mode = [\"fast\"]\n", "mode", 1},
+        {"pos = [1, 2]\n", "pos", 1},
+        {"pos = [1, 2, 3, 4]\n", "pos", 1},
+        {"pos = [1, \"a\", 3]\n", "pos", 1},
+        {"pos = 3\n", "pos", 1},
+        {"pos = [1, true, 3]\n", "pos", 1},
+        {"count = 1\n\n\n[sec]\nn = \"x\"\n", "sec.n", 5},
+    };
+    for (const Case& c : cases) {
+        const std::string f = write("w.toml", c.text);
+        ParamSet p = make();
+        const std::string msg = error_of([&] { p.load_file(f); });
+        EXPECT_THAT(msg, AllOf(HasSubstr(f + ":" + std::to_string(c.line) + ":"),
+                               HasSubstr("'" + std::string(c.key) + "'"), HasSubstr("must")))
+            << c.text;
+    }
+}
+
+TEST_F(ParamsTest, OutOfRangeAndBadChoicesAreRejected) {
+    struct Case {
+        const char* text;
+        const char* key;
+    };
+    const Case cases[] = {
+        {"count = 0\n", "count"},       {"count = 101\n", "count"},     {"count = -1\n", "count"},
+        {"scale = -0.001\n", "scale"},  {"scale = 10.5\n", "scale"},    {"scale = inf\n", "scale"},
+        {"scale = nan\n", "scale"},     {"sec.n = 5001\n", "sec.n"},    {"mode = \"medium\"\n", "mode"},
+        {"pos = [1, inf, 0]\n", "pos"}, {"pos = [nan, 0, 0]\n", "pos"},
+    };
+    for (const Case& c : cases) {
+        const std::string f = write("r.toml", c.text);
+        ParamSet p = make();
+        const std::string msg = error_of([&] { p.load_file(f); });
+        EXPECT_THAT(msg, AllOf(HasSubstr(f + ":1:"), HasSubstr("'" + std::string(c.key) + "'"))) << c.text;
+    }
+    // the limits themselves are accepted
+    ParamSet p = make();
+    p.load_text("count = 1\nscale = 0.0\n", "lim");
+    p.load_text("count = 100\nscale = 10\n", "lim");
+    EXPECT_EQ(p.get_int("count"), 100);
+    EXPECT_EQ(p.get_real("scale"), 10.0);
+    // and the message says what the range is
+    EXPECT_THAT(error_of([&] { p.load_text("count = 500\n", "lim"); }),
+                AllOf(HasSubstr("out of range"), HasSubstr("100")));
+    EXPECT_THAT(error_of([&] { p.load_text("mode = \"x\"\n", "lim"); }), HasSubstr("two words"));
+}
+
+TEST_F(ParamsTest, BadFilesAreRejectedWithTheirName) {
+    ParamSet p = make();
+    const std::string missing = (dir / "missing.toml").string();
+    EXPECT_THAT(error_of([&] { p.load_file(missing); }), HasSubstr(missing));
+    const std::string syntax = write("syntax.toml", "count = 1\nscale = = 2\n");
+    EXPECT_THAT(error_of([&] { p.load_file(syntax); }), HasSubstr(syntax + ":2"));
+    const std::string dup = write("dup.toml", "count = 1\ncount = 2\n");
+    EXPECT_THAT(error_of([&] { p.load_file(dup); }), HasSubstr(dup + ":2"));
+    const std::string bin = write("bin.toml", std::string("count = 1\n\0\0\x01\x02", 14));
+    EXPECT_THAT(error_of([&] { p.load_file(bin); }), HasSubstr(bin));
+    // a directory is not an (empty) file
+    const std::string sub = (dir / "sub.toml").string();
+    fs::create_directory(sub);
+    EXPECT_THAT(error_of([&] { p.load_file(sub); }), HasSubstr(sub));
+    // an empty file is valid: every key keeps its default
+    const std::string empty = write("empty.toml", "");
+    p.load_file(empty);
+    EXPECT_EQ(p.get_int("count"), 4);
+    // an error after valid lines still names its own line
+    ParamSet q = make();
+    const std::string partial = write("partial.toml", "count = 50\nbogus = 1\n");
+    EXPECT_THAT(error_of([&] { q.load_file(partial); }), AllOf(HasSubstr(partial + ":2"), HasSubstr("'bogus'")));
+}
+
+TEST_F(ParamsTest, SetOverrides) {
+    ParamSet p = make();
+    p.set("count=42");
+    EXPECT_EQ(p.get_int("count"), 42);
+    EXPECT_EQ(p.origin("count"), "--set count");
+    EXPECT_TRUE(p.is_given("count"));
+    p.set("scale=2.25");
+    EXPECT_EQ(p.get_real("scale"), 2.25);
+    p.set("scale=7");  // integer literal for a real key
+    EXPECT_EQ(p.get_real("scale"), 7.0);
+    p.set("scale=1e-3");
+    EXPECT_EQ(p.get_real("scale"), 1e-3);
+    p.set("flag=true");
+    EXPECT_TRUE(p.get_bool("flag"));
+    p.set("mode=slow");  // bare word is a string
+    EXPECT_EQ(p.get_string("mode"), "slow");
+    p.set("mode=\"fast\"");  // quoted TOML string
+    EXPECT_EQ(p.get_string("mode"), "fast");
+    p.set("mode=two words");  // bare words with a space
+    EXPECT_EQ(p.get_string("mode"), "two words");
+    p.set("label=hello");
+    EXPECT_EQ(p.get_string("label"), "hello");
+    p.set("pos=[1, 2, 3]");
+    EXPECT_EQ(*p.get_vec3("pos"), Vec3d(1, 2, 3));
+    p.set("pos=[-0.5,1e3,7]");
+    EXPECT_EQ(*p.get_vec3("pos"), Vec3d(-0.5, 1000, 7));
+    p.set("sec.n=4999");
+    EXPECT_EQ(p.get_int("sec.n"), 4999);
+    // --set wins over an earlier file value
+    const std::string f = write("o.toml", "count = 3\n");
+    ParamSet q = make();
+    q.load_file(f);
+    q.set("count=5");
+    EXPECT_EQ(q.get_int("count"), 5);
+}
+
+TEST_F(ParamsTest, BadSetOverridesNameTheKey) {
+    ParamSet p = make();
+    EXPECT_THAT(error_of([&] { p.set("nosuch=1"); }), AllOf(HasSubstr("--set"), HasSubstr("'nosuch'")));
+    EXPECT_THAT(error_of([&] { p.set("sec.nosuch=1"); }), HasSubstr("'sec.nosuch'"));
+    EXPECT_THAT(error_of([&] { p.set("count"); }), AllOf(HasSubstr("--set"), HasSubstr("key=value")));
+    EXPECT_THAT(error_of([&] { p.set("=3"); }), HasSubstr("key=value"));
+    EXPECT_THAT(error_of([&] { p.set("count=abc"); }), AllOf(HasSubstr("'count'"), HasSubstr("integer")));
+    EXPECT_THAT(error_of([&] { p.set("count=2.5"); }), HasSubstr("'count'"));
+    EXPECT_THAT(error_of([&] { p.set("count=1000"); }), AllOf(HasSubstr("'count'"), HasSubstr("out of range")));
+    EXPECT_THAT(error_of([&] { p.set("scale=-1"); }), AllOf(HasSubstr("'scale'"), HasSubstr("out of range")));
+    EXPECT_THAT(error_of([&] { p.set("scale=fast"); }), HasSubstr("'scale'"));
+    EXPECT_THAT(error_of([&] { p.set("flag=yes"); }), HasSubstr("'flag'"));
+    EXPECT_THAT(error_of([&] { p.set("mode=medium"); }), AllOf(HasSubstr("'mode'"), HasSubstr("medium")));
+    EXPECT_THAT(error_of([&] { p.set("pos=[1,2]"); }), HasSubstr("'pos'"));
+    EXPECT_THAT(error_of([&] { p.set("pos=1,2,3"); }), HasSubstr("'pos'"));
+    // failed overrides leave the value alone
+    EXPECT_EQ(p.get_int("count"), 4);
+    EXPECT_EQ(p.get_real("scale"), 1.5);
+    EXPECT_FALSE(p.get_vec3("pos").has_value());
+}
+
+TEST_F(ParamsTest, DumpParsesBackToTheSameValues) {
+    ParamSet p = make();
+    p.set("count=77");
+    p.set("scale=0.1");  // needs 17 digits to round-trip exactly
+    p.set("flag=true");
+    p.set("mode=two words");
+    p.set("label=quote \" and backslash \\ and tab \t end");
+    p.set("dir=[0.30000000000000004, -1e-300, 123456789.125]");
+    p.set("sec.x=-987654.321");
+    const std::string text = p.dump();
+    // awkward reals print as valid TOML that reads back bit-exactly
+    for (const char* lit : {"100", "1e20", "-0.0", "5e-324", "1.7976931348623157e308", "123456789.0", "2.5e-7", "-3",
+                            "0.30000000000000004"}) {
+        const double x = std::strtod(lit, nullptr);
+        ParamSet r("real");
+        r.add_real("x", 0.0, -std::numeric_limits<double>::max(), std::numeric_limits<double>::max(), "any real");
+        r.set(std::string("x=") + lit);
+        ASSERT_EQ(r.get_real("x"), x) << lit;
+        ParamSet back("real");
+        back.add_real("x", 1.0, -std::numeric_limits<double>::max(), std::numeric_limits<double>::max(), "any real");
+        back.load_text(r.dump(), "dump");
+        EXPECT_EQ(back.get_real("x"), x) << r.dump();
+        EXPECT_EQ(std::signbit(back.get_real("x")), std::signbit(x)) << r.dump();
+    }
+    ParamSet q = make();
+    q.load_text(text, "dump");
+    for (const std::string& k : p.keys()) EXPECT_TRUE(q.has(k)) << k;
+    EXPECT_EQ(q.get_int("count"), 77);
+    EXPECT_EQ(q.get_real("scale"), 0.1);
+    EXPECT_TRUE(q.get_bool("flag"));
+    EXPECT_EQ(q.get_string("mode"), "two words");
+    EXPECT_EQ(q.get_string("label"), p.get_string("label"));
+    EXPECT_EQ(*q.get_vec3("dir"), *p.get_vec3("dir"));
+    EXPECT_EQ(q.get_real("sec.x"), -987654.321);
+    EXPECT_EQ(q.get_int("sec.n"), 7);
+    // an unset optional stays unset (it is printed as a comment)
+    EXPECT_FALSE(q.get_vec3("pos").has_value());
+    EXPECT_FALSE(q.is_given("pos"));
+    EXPECT_EQ(q.get_string("label"), "quote \" and backslash \\ and tab \t end");
+    // and dumping again gives the same text
+    EXPECT_EQ(q.dump(), text);
+    // descriptions are in the dump
+    EXPECT_THAT(text, HasSubstr("an integer 1..100"));
+}
+
+TEST_F(ParamsTest, SceneParamsDumpRoundTrips) {
+    ParamSet p = raplas::scene_params();
+    p.set("image.width=33");
+    p.set("camera.eye=[1, 2, 3]");
+    p.set("camera.look_at=[0, 0.5, 0]");
+    p.set("spheres.method=file-order");
+    p.set("shading.shadow_offset=0.003");
+    const std::string text = p.dump();
+    ParamSet q = raplas::scene_params();
+    const std::string f = write("scene_dump.toml", text);
+    q.load_file(f);
+    EXPECT_EQ(q.dump(), text);
+    EXPECT_EQ(q.get_int("image.width"), 33);
+    EXPECT_EQ(*q.get_vec3("camera.eye"), Vec3d(1, 2, 3));
+    EXPECT_EQ(q.get_string("spheres.method"), "file-order");
+    EXPECT_EQ(q.get_real("shading.shadow_offset"), 0.003);
+    EXPECT_FALSE(q.get_vec3("light.corner").has_value());
+    EXPECT_EQ(q.get_string("mesh"), "");
+}
+
+// ---- scene files -------------------------------------------------------------
+
+TEST_F(ParamsTest, SceneFileCameraEyeWithoutLookAtIsAnError) {
+    const std::string f = write("cam.toml", "name = \"x\"\n[camera]\neye = [1, 2, 3]\n");
+    raplas::SceneRequest req;
+    req.scene_file = f;
+    const std::string msg = error_of([&] { raplas::load_scene(req); });
+    EXPECT_THAT(msg, AllOf(HasSubstr(f + ":3"), HasSubstr("camera.eye"), HasSubstr("camera.look_at")));
+    // look_at alone too
+    const std::string g = write("cam2.toml", "[camera]\n\nlook_at = [0, 0, 0]\n");
+    req.scene_file = g;
+    EXPECT_THAT(error_of([&] { raplas::load_scene(req); }), AllOf(HasSubstr(g + ":3"), HasSubstr("camera.eye")));
+    // both: fine
+    const std::string h = write("cam3.toml", "[camera]\neye = [0, 1, 5]\nlook_at = [0, 0, 0]\n");
+    req.scene_file = h;
+    raplas::Scene s = raplas::load_scene(req);
+    EXPECT_EQ(s.camera.eye, Vec3d(0, 1, 5));
+    EXPECT_EQ(s.camera.look_at, Vec3d(0, 0, 0));
+    EXPECT_FALSE(s.camera_auto);
+    // eye == look_at
+    const std::string k = write("cam4.toml", "[camera]\neye = [1, 1, 1]\nlook_at = [1, 1, 1]\n");
+    req.scene_file = k;
+    EXPECT_THAT(error_of([&] { raplas::load_scene(req); }), HasSubstr(k + ":2"));
+}
+
+TEST_F(ParamsTest, SceneImageSizeLimits) {
+    for (const char* bad : {"0", "100000", "-4"}) {
+        const std::string f = write("img.toml", std::string("[image]\nwidth = ") + bad + "\n");
+        raplas::SceneRequest req;
+        req.scene_file = f;
+        EXPECT_THAT(error_of([&] { raplas::load_scene(req); }), AllOf(HasSubstr(f + ":2"), HasSubstr("image.width")))
+            << bad;
+        raplas::SceneRequest over;
+        over.overrides = {std::string("image.height=") + bad};
+        EXPECT_THAT(error_of([&] { raplas::load_scene(over); }), HasSubstr("image.height")) << bad;
+    }
+    // within each limit but too many pixels in total
+    raplas::SceneRequest big;
+    big.overrides = {"image.width=16384", "image.height=16384"};
+    EXPECT_THAT(error_of([&] { raplas::load_scene(big); }), HasSubstr("image"));
+    // a valid size is taken
+    raplas::SceneRequest ok;
+    ok.overrides = {"image.width=21", "image.height=13", "builtin_detail=0"};
+    raplas::Scene s = raplas::load_scene(ok);
+    EXPECT_EQ(s.width, 21);
+    EXPECT_EQ(s.height, 13);
+}
+
+TEST_F(ParamsTest, SceneFileValuesReachTheScene) {
+    write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    const std::string f = write("full.toml",
+                                "name = \"demo\"\n"
+                                "mesh = \"tri.obj\"\n"  // relative to the scene file's directory
+                                "[image]\nwidth = 24\nheight = 12\n"
+                                "[groups]\nsize = 8\nshadow_size = 4\n"
+                                "[spheres]\ntriangles_per_sphere = 3\nmethod = \"file-order\"\n"
+                                "[light]\ncorner = [0, 5, 0]\nedge_u = [1, 0, 0]\nedge_v = [0, 0, 1]\n");
+    raplas::SceneRequest req;
+    req.scene_file = f;
+    req.overrides = {"groups.size=5"};
+    raplas::Scene s = raplas::load_scene(req);
+    EXPECT_EQ(s.name, "demo");
+    EXPECT_EQ(s.mesh.triangle_count(), 1u);
+    EXPECT_EQ(s.width, 24);
+    EXPECT_EQ(s.height, 12);
+    EXPECT_EQ(s.group_size, 5);
+    EXPECT_EQ(s.shadow_group_size, 4);
+    EXPECT_EQ(s.tris_per_sphere, 3);
+    EXPECT_EQ(s.sphere_method, "file-order");
+    EXPECT_EQ(s.light.corner, Vec3d(0, 5, 0));
+    EXPECT_FALSE(s.light_auto);
+    EXPECT_TRUE(s.camera_auto);  // no camera given: framed automatically
+    // light given partially
+    const std::string g = write("light.toml", "[light]\ncorner = [0, 5, 0]\n");
+    req.scene_file = g;
+    req.overrides.clear();
+    EXPECT_THAT(error_of([&] { raplas::load_scene(req); }), HasSubstr("light"));
+    // missing mesh names the mesh
+    const std::string h = write("nomesh.toml", "mesh = \"no_such_mesh_file.obj\"\n");
+    req.scene_file = h;
+    EXPECT_THAT(error_of([&] { raplas::load_scene(req); }), HasSubstr("no_such_mesh_file.obj"));
+    // both a scene and a mesh
+    raplas::SceneRequest both;
+    both.scene_file = f;
+    both.mesh_file = (dir / "tri.obj").string();
+    EXPECT_THAT(error_of([&] { raplas::load_scene(both); }), AllOf(HasSubstr("--scene"), HasSubstr("--mesh")));
+}
+
+}  // namespace

@@ -1,0 +1,372 @@
+// The profile trace: make_trace from a recorded frame, the binary format's
+// round trip, and rejection of truncated, corrupt and foreign files.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "raplas/frontend/frame.hpp"
+#include "raplas/frontend/trace_io.hpp"
+#include "raplas/scene/scene.hpp"
+#include "raplas/util/error.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace raplas;
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+
+constexpr std::size_t kHeader = 32;  // magic 8 + version 4 + header size 4 + payload size 8 + checksum 8
+
+Scene small_scene() {
+    SceneRequest req;
+    req.overrides = {"builtin_detail=0", "image.width=20", "image.height=12", "groups.size=8", "groups.shadow_size=3",
+                     "spheres.triangles_per_sphere=3"};
+    return load_scene(req);
+}
+
+struct Rendered {
+    Scene scene;
+    Frame frame;
+    Trace trace;
+    std::string bytes;
+};
+
+// One render shared by every test here (it is deterministic).
+const Rendered& rendered() {
+    static const Rendered r = [] {
+        Rendered x;
+        x.scene = small_scene();
+        FrameOptions fo;
+        fo.format = NumFormat::parse("fp1-8-15");
+        fo.threads = 2;
+        fo.record = true;
+        x.frame = render_frame(x.scene, fo);
+        x.trace = make_trace(x.scene, x.frame, fo.format);
+        x.bytes = serialize_trace(x.trace);
+        return x;
+    }();
+    return r;
+}
+
+bool same_bits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+bool same(const Vec3f& a, const Vec3f& b) { return same_bits(a.x, b.x) && same_bits(a.y, b.y) && same_bits(a.z, b.z); }
+
+void expect_same_trace(const Trace& a, const Trace& b) {
+    EXPECT_EQ(a.scene_name, b.scene_name);
+    EXPECT_EQ(a.format, b.format);
+    EXPECT_EQ(a.width, b.width);
+    EXPECT_EQ(a.height, b.height);
+    EXPECT_EQ(a.group_size, b.group_size);
+    EXPECT_EQ(a.shadow_group_size, b.shadow_group_size);
+    EXPECT_EQ(a.tris_per_sphere, b.tris_per_sphere);
+    ASSERT_EQ(a.spheres.size(), b.spheres.size());
+    for (std::size_t i = 0; i < a.spheres.size(); ++i) {
+        ASSERT_TRUE(same(a.spheres[i].c, b.spheres[i].c) && same_bits(a.spheres[i].r, b.spheres[i].r))
+            << "sphere " << i;
+    }
+    EXPECT_EQ(a.first_tri, b.first_tri);
+    EXPECT_EQ(a.tri_count, b.tri_count);
+    ASSERT_EQ(a.triangles.size(), b.triangles.size());
+    for (std::size_t i = 0; i < a.triangles.size(); ++i) {
+        const auto &x = a.triangles[i], &y = b.triangles[i];
+        ASSERT_TRUE(same(x.v0, y.v0) && same(x.e1, y.e1) && same(x.e2, y.e2) && same(x.n, y.n)) << "triangle " << i;
+    }
+    EXPECT_EQ(a.tri_mesh_index, b.tri_mesh_index);
+    EXPECT_EQ(a.primary_groups, b.primary_groups);
+    ASSERT_EQ(a.groups.size(), b.groups.size());
+    for (std::size_t gi = 0; gi < a.groups.size(); ++gi) {
+        const TraceGroup &g = a.groups[gi], &h = b.groups[gi];
+        ASSERT_EQ(g.kind, h.kind) << gi;
+        ASSERT_EQ(g.n, h.n) << gi;
+        ASSERT_EQ(g.px, h.px) << gi;
+        ASSERT_EQ(g.py, h.py) << gi;
+        ASSERT_TRUE(same(g.origin, h.origin)) << gi;
+        ASSERT_TRUE(same_bits(g.tmax, h.tmax)) << gi;
+        ASSERT_EQ(g.row_valid, h.row_valid) << gi;
+        ASSERT_EQ(g.col_valid, h.col_valid) << gi;
+        ASSERT_EQ(g.planes.size(), h.planes.size()) << gi;
+        for (std::size_t k = 0; k < g.planes.size(); ++k)
+            ASSERT_TRUE(same(g.planes[k].n, h.planes[k].n) && same_bits(g.planes[k].w, h.planes[k].w)) << gi;
+        ASSERT_EQ(g.dirs.size(), h.dirs.size()) << gi;
+        for (std::size_t k = 0; k < g.dirs.size(); ++k) ASSERT_TRUE(same(g.dirs[k], h.dirs[k])) << gi;
+        ASSERT_EQ(g.sphere_hits.size(), h.sphere_hits.size()) << gi;
+        for (std::size_t k = 0; k < g.sphere_hits.size(); ++k) {
+            ASSERT_EQ(g.sphere_hits[k].sphere, h.sphere_hits[k].sphere) << gi;
+            ASSERT_EQ(g.sphere_hits[k].rows, h.sphere_hits[k].rows) << gi;
+            ASSERT_EQ(g.sphere_hits[k].cols, h.sphere_hits[k].cols) << gi;
+        }
+        ASSERT_EQ(g.counts.plane_tests, h.counts.plane_tests) << gi;
+        ASSERT_EQ(g.counts.sphere_hits, h.counts.sphere_hits) << gi;
+        ASSERT_EQ(g.counts.rt_tests, h.counts.rt_tests) << gi;
+        ASSERT_EQ(g.hits.size(), h.hits.size()) << gi;
+        for (std::size_t k = 0; k < g.hits.size(); ++k) {
+            ASSERT_EQ(g.hits[k].tri, h.hits[k].tri) << gi;
+            ASSERT_TRUE(same_bits(g.hits[k].t, h.hits[k].t)) << gi;
+        }
+    }
+}
+
+std::string parse_error(const std::string& bytes, const std::string& name) {
+    try {
+        parse_trace(bytes, name);
+    } catch (const InputError& e) {
+        return e.what();
+    } catch (const std::exception& e) {
+        return std::string("not an InputError: ") + e.what();
+    }
+    return "";
+}
+
+std::uint64_t fnv1a(const std::string& s, std::size_t from) {
+    std::uint64_t h = 1469598103934665603ull;
+    for (std::size_t i = from; i < s.size(); ++i) {
+        h ^= static_cast<unsigned char>(s[i]);
+        h *= 1099511628211ull;
+    }
+    return h;
+}
+
+TEST(TraceIo, MakeTraceReflectsTheFrame) {
+    const Rendered& r = rendered();
+    const Trace& t = r.trace;
+    const Frame& f = r.frame;
+    EXPECT_EQ(t.scene_name, "builtin");
+    EXPECT_EQ(t.format.name(), "fp1-8-15");
+    EXPECT_EQ(t.width, 20u);
+    EXPECT_EQ(t.height, 12u);
+    EXPECT_EQ(t.group_size, 8u);
+    EXPECT_EQ(t.shadow_group_size, 3u);
+    EXPECT_EQ(t.tris_per_sphere, 3u);
+    EXPECT_EQ(t.spheres.size(), f.spheres.sphere_count());
+    EXPECT_EQ(t.triangles.size(), f.spheres.triangle_count());
+    // 20x12 in 8x8 tiles: 3 x 2 primary groups, then one shadow group per hit pixel
+    ASSERT_EQ(t.primary_groups, 6u);
+    std::size_t hit_pixels = 0;
+    for (const Hit& h : f.pixel_hit) hit_pixels += h.tri >= 0;
+    ASSERT_GT(hit_pixels, 0u);
+    ASSERT_EQ(t.groups.size(), 6u + hit_pixels);
+    ASSERT_EQ(f.shadow_group_count, hit_pixels);
+    for (std::size_t i = 0; i < t.groups.size(); ++i) {
+        const TraceGroup& g = t.groups[i];
+        const bool primary = i < t.primary_groups;
+        const RayGroup& src = primary ? f.primary[i] : f.shadow[i - t.primary_groups];
+        const GroupResult& res = primary ? f.primary_results[i] : f.shadow_results[i - t.primary_groups];
+        ASSERT_EQ(g.kind, primary ? GroupKind::primary : GroupKind::shadow);
+        ASSERT_EQ(g.n, primary ? 8u : 3u);
+        ASSERT_EQ(g.planes.size(), 2u * g.n);
+        ASSERT_EQ(g.dirs.size(), std::size_t(g.n) * g.n);
+        for (std::uint32_t v = 0; v < g.n; ++v)
+            for (std::uint32_t h = 0; h < g.n; ++h) {
+                const Ray a = g.ray(h, v), b = group_ray(src, h, v);
+                ASSERT_TRUE(same(a.o, b.o) && same(a.d, b.d) && same_bits(a.tmax, b.tmax));
+            }
+        ASSERT_EQ(g.sphere_hits.size(), g.counts.sphere_hits);
+        ASSERT_EQ(g.counts.rt_tests, res.counts.rt_tests);
+        ASSERT_EQ(g.hits.size(), res.hits.size());
+        for (std::size_t k = 0; k < g.hits.size(); ++k) ASSERT_EQ(g.hits[k], res.hits[k]);
+    }
+    // primary hits in the trace are the pixels' hits
+    for (std::uint32_t i = 0; i < t.primary_groups; ++i) {
+        const TraceGroup& g = t.groups[i];
+        for (std::uint32_t v = 0; v < g.n; ++v)
+            for (std::uint32_t h = 0; h < g.n; ++h) {
+                if (!g.ray_valid(h, v)) continue;
+                const std::size_t px = std::size_t(g.py + int(v)) * 20 + std::size_t(g.px + int(h));
+                ASSERT_EQ(g.hits[v * g.n + h], f.pixel_hit[px]);
+            }
+    }
+    GroupCounts total = f.primary_counts;
+    total += f.shadow_counts;
+    const GroupCounts tc = t.total_counts();
+    EXPECT_EQ(tc.plane_tests, total.plane_tests);
+    EXPECT_EQ(tc.sphere_hits, total.sphere_hits);
+    EXPECT_EQ(tc.rt_tests, total.rt_tests);
+}
+
+TEST(TraceIo, SerializeParseRoundTripIsExact) {
+    const Rendered& r = rendered();
+    ASSERT_GT(r.bytes.size(), kHeader + 100);
+    EXPECT_EQ(r.bytes.substr(0, 8), std::string("RAPLTRC\n"));
+    Trace back = parse_trace(r.bytes, "mem.trace");
+    expect_same_trace(r.trace, back);
+    // and serializing the parsed trace gives the same bytes
+    EXPECT_EQ(serialize_trace(back), r.bytes);
+    // serialization is deterministic (thread count does not matter)
+    FrameOptions fo;
+    fo.format = NumFormat::parse("fp1-8-15");
+    fo.threads = 1;
+    fo.record = true;
+    Frame f1 = render_frame(r.scene, fo);
+    EXPECT_EQ(serialize_trace(make_trace(r.scene, f1, fo.format)), r.bytes);
+}
+
+TEST(TraceIo, HitsReplayFromTheTraceAlone) {
+    // A consumer of the trace (the timing model) recomputes the same nearest
+    // hits from its spheres, triangles and groups.
+    const Trace t = parse_trace(rendered().bytes, "replay.trace");
+    SphereSet s;
+    s.spheres = t.spheres;
+    s.first_tri = t.first_tri;
+    s.tri_count = t.tri_count;
+    s.triangles = t.triangles;
+    s.tri_mesh_index = t.tri_mesh_index;
+    Tracer tracer(s, t.format);
+    for (std::size_t gi = 0; gi < t.groups.size(); ++gi) {
+        const TraceGroup& g = t.groups[gi];
+        for (std::uint32_t v = 0; v < g.n; ++v)
+            for (std::uint32_t h = 0; h < g.n; ++h) {
+                if (!g.ray_valid(h, v)) continue;
+                ASSERT_EQ(tracer.brute_force(g.ray(h, v)), g.hits[v * g.n + h]) << "group " << gi;
+            }
+    }
+}
+
+TEST(TraceIo, TruncatedAnywhereIsRejected) {
+    const std::string& b = rendered().bytes;
+    const std::size_t cuts[] = {0, 1, 7, 8, 11, 12, 20, kHeader - 1, kHeader, kHeader + 1, kHeader + 40,
+                                b.size() / 3, b.size() / 2, b.size() - 13, b.size() - 1};
+    for (std::size_t n : cuts) {
+        const std::string msg = parse_error(b.substr(0, n), "cut.trace");
+        EXPECT_THAT(msg, HasSubstr("cut.trace")) << "cut at " << n;
+        EXPECT_THAT(msg, ::testing::Not(HasSubstr("not an InputError"))) << "cut at " << n;
+    }
+    // extra bytes at the end too
+    EXPECT_THAT(parse_error(b + "x", "long.trace"), HasSubstr("long.trace"));
+}
+
+TEST(TraceIo, FlippedByteAnywhereIsRejected) {
+    const std::string& b = rendered().bytes;
+    std::size_t tried = 0;
+    // every header byte, then payload bytes across the file (first and last included)
+    std::vector<std::size_t> positions;
+    for (std::size_t i = 0; i < kHeader; ++i) positions.push_back(i);
+    const std::size_t step = std::max<std::size_t>(1, (b.size() - kHeader) / 400);
+    for (std::size_t i = kHeader; i < b.size(); i += step) positions.push_back(i);
+    positions.push_back(b.size() - 1);
+    for (std::size_t pos : positions) {
+        for (unsigned char mask : {0x01, 0x80, 0xff}) {
+            std::string c = b;
+            c[pos] = char(static_cast<unsigned char>(c[pos]) ^ mask);
+            const std::string msg = parse_error(c, "flip.trace");
+            ASSERT_THAT(msg, HasSubstr("flip.trace")) << "byte " << pos << " ^ " << int(mask);
+            ASSERT_THAT(msg, ::testing::Not(HasSubstr("not an InputError"))) << "byte " << pos;
+            ++tried;
+        }
+    }
+    EXPECT_GT(tried, 1000u);
+}
+
+TEST(TraceIo, WrongMagicAndOtherVersions) {
+    const std::string& b = rendered().bytes;
+    std::string m = b;
+    m[0] = 'X';
+    EXPECT_THAT(parse_error(m, "magic.trace"), AllOf(HasSubstr("magic.trace"), HasSubstr("not a raplas trace")));
+    EXPECT_THAT(parse_error("PNG\x89 this is something else entirely, long enough", "other.png"),
+                HasSubstr("other.png"));
+    for (std::uint32_t version : {0u, kTraceVersion + 1, 0xffffffffu}) {
+        std::string v = b;
+        std::memcpy(&v[8], &version, 4);
+        const std::string msg = parse_error(v, "ver.trace");
+        EXPECT_THAT(msg, AllOf(HasSubstr("ver.trace"), HasSubstr("version " + std::to_string(version)))) << version;
+    }
+}
+
+// The structural checks behind the checksum: files whose checksum is right
+// but whose content is inconsistent.
+TEST(TraceIo, InconsistentContentWithAValidChecksumIsRejected) {
+    const Trace& good = rendered().trace;
+    ASSERT_GE(good.spheres.size(), 2u);
+    std::size_t with_hits = 0;
+    while (with_hits < good.groups.size() && good.groups[with_hits].sphere_hits.empty()) ++with_hits;
+    ASSERT_LT(with_hits, good.groups.size());
+    struct Case {
+        const char* what;
+        std::function<void(Trace&)> edit;
+    };
+    const std::vector<Case> cases = {
+        {"sphere triangles not contiguous", [](Trace& t) { t.first_tri[1] += 1; }},
+        {"empty sphere", [](Trace& t) { t.tri_count[0] = 0; }},
+        {"hit triangle out of range", [](Trace& t) { t.groups[0].hits[0].tri = std::int32_t(t.triangles.size()); }},
+        {"hit triangle below -1", [](Trace& t) { t.groups[0].hits[0].tri = -2; }},
+        {"counts disagree", [&](Trace& t) { t.groups[with_hits].counts.rt_tests += 1; }},
+        {"sphere hit out of range",
+         [&](Trace& t) { t.groups[with_hits].sphere_hits[0].sphere = std::uint32_t(t.spheres.size()); }},
+        {"empty plane mask", [&](Trace& t) { t.groups[with_hits].sphere_hits[0].rows = 0; }},
+        {"group kinds out of order", [](Trace& t) { t.primary_groups += 1; }},
+        {"more primary groups than groups", [](Trace& t) { t.primary_groups = std::uint32_t(t.groups.size() + 1); }},
+        {"bad format", [](Trace& t) { t.format.exp_bits = 1; }},
+    };
+    for (const Case& c : cases) {
+        Trace t = good;
+        c.edit(t);
+        const std::string bytes = serialize_trace(t);
+        // the checksum is valid: only the content can be wrong
+        std::uint64_t sum;
+        std::memcpy(&sum, &bytes[24], 8);
+        ASSERT_EQ(sum, fnv1a(bytes, kHeader)) << c.what;
+        const std::string msg = parse_error(bytes, "bad.trace");
+        EXPECT_THAT(msg, AllOf(HasSubstr("bad.trace"), ::testing::Not(HasSubstr("not an InputError")))) << c.what;
+        EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+    }
+}
+
+class TraceFiles : public ::testing::Test {
+protected:
+    fs::path dir;
+    void SetUp() override {
+        std::string tmpl = (fs::path(::testing::TempDir()) / "raplas_trace_XXXXXX").string();
+        ASSERT_NE(::mkdtemp(tmpl.data()), nullptr);
+        dir = tmpl;
+    }
+    void TearDown() override {
+        std::error_code ec;
+        fs::remove_all(dir, ec);
+    }
+};
+
+TEST_F(TraceFiles, WriteAndReadThroughTheFilesystem) {
+    const Rendered& r = rendered();
+    const std::string p = (dir / "frame.trace").string();
+    write_trace(p, r.trace);
+    ASSERT_TRUE(fs::exists(p));
+    EXPECT_EQ(fs::file_size(p), r.bytes.size());
+    // no temporary files left behind
+    std::size_t entries = 0;
+    for (const auto& e : fs::directory_iterator(dir)) entries += e.is_regular_file();
+    EXPECT_EQ(entries, 1u);
+    Trace back = read_trace(p);
+    expect_same_trace(r.trace, back);
+    // overwrite in place
+    write_trace(p, back);
+    expect_same_trace(r.trace, read_trace(p));
+    // a truncated file on disk names its path
+    const std::string cut = (dir / "cut.trace").string();
+    std::ofstream(cut, std::ios::binary) << r.bytes.substr(0, r.bytes.size() / 2);
+    try {
+        read_trace(cut);
+        ADD_FAILURE() << "truncated trace accepted";
+    } catch (const InputError& e) {
+        EXPECT_THAT(e.what(), HasSubstr(cut));
+    }
+    // a missing file names its path
+    const std::string missing = (dir / "missing.trace").string();
+    try {
+        read_trace(missing);
+        ADD_FAILURE() << "missing trace accepted";
+    } catch (const InputError& e) {
+        EXPECT_THAT(e.what(), HasSubstr(missing));
+    }
+}
+
+}  // namespace
