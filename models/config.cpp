@@ -37,7 +37,10 @@ ParamSet machine_params() {
                  "compute = intersectors compute with the math library (hits checked against the front end); "
                  "trace = plane-hit masks taken from the trace (faster, hits not checked)",
                  {"compute", "trace"});
-    p.add_string("sim.mode", std::string("cycle"), "cycle = step every clock cycle", {"cycle"});
+    p.add_string("sim.mode", std::string("event"),
+                 "cycle = step every block every clock cycle; event = exact event-driven stepping that skips "
+                 "what cannot change (same cycle counts and statistics; --vcd forces cycle)",
+                 {"cycle", "event"});
     p.add_int("sim.sync_cycles", 4096, 1, 1000000000, "cycles simulated between SystemC time updates (1 with --vcd)");
     p.add_int("sim.watchdog_cycles", 1000000, 1, 1000000000000,
               "stop with an error when nothing moves for this many cycles");
@@ -71,7 +74,7 @@ SimConfig config_from_params(const ParamSet& p) {
         throw InputError(p.origin("numerics.format") + ": " + e.what());
     }
     c.functional = p.get_string("sim.functional") == "trace" ? FunctionalMode::trace : FunctionalMode::compute;
-    c.mode = SimMode::cycle;
+    c.mode = p.get_string("sim.mode") == "event" ? SimMode::event : SimMode::cycle;
     c.sync_cycles = std::uint64_t(p.get_int("sim.sync_cycles"));
     c.watchdog_cycles = std::uint64_t(p.get_int("sim.watchdog_cycles"));
     return c;

@@ -30,6 +30,8 @@ public:
 
     void start_group() { decided_ = 0; }
     void end_group() { stats_.decided += decided_; }
+    void set_decided(std::uint32_t d) { decided_ = d; }
+    void note_hit() { ++stats_.sphere_hits; }
     std::uint32_t decided() const { return decided_; }
 
     // Returns true when the PSI must hold this cycle.

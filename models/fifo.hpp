@@ -88,6 +88,20 @@ public:
     }
     void clear() { count_ = 0; }
     void note_full() { ++stats_.full_cycles; }
+    void note_full(std::uint64_t cycles) { stats_.full_cycles += cycles; }
+    // Event-driven simulation: take over the contents of an identical FIFO,
+    // with `pushes` pushes and `max_occupancy` seen by it.
+    void adopt(const SphereFifo& o, std::uint64_t pushes, std::uint64_t max_occupancy) {
+        first_ = o.first_;
+        count_ = o.count_;
+        stats_.pushes += pushes;
+        if (max_occupancy > stats_.max_occupancy) stats_.max_occupancy = max_occupancy;
+    }
+    // n pushes and n pops in steady streaming.
+    void advance(std::uint32_t n) {
+        first_ += n;
+        stats_.pushes += n;
+    }
     const Stats& stats() const { return stats_; }
     const Params& params() const { return params_; }
 

@@ -79,12 +79,19 @@ public:
         selected_before_ = triangle_selector.stats().selected;
         sphere_pushes_before_ = sphere_fifo.stats().pushes;
         rti_busy_before_ = rti.stats().busy_cycles;
-        unit_->load(*g);
+        if (loaded_ != g) unit_->load(*g);
+        loaded_ = nullptr;
         psi.start_group(2 * g->n, &unit_->sphere_hits());
         ray_data_fetcher.start_group(g->n);
         min_distance.reset(std::size_t(g->n) * g->n);
     }
     bool active() const { return group_ != nullptr; }
+    // Loads a group's planes and rays and computes its PSI results ahead of
+    // start_pass (thread-safe across ICCs: the host loads them in parallel).
+    void preload(const TraceGroup* g) {
+        if (g) unit_->load(*g);
+        loaded_ = g;
+    }
     void add_idle(std::uint64_t cycles) { stats_.idle_cycles += cycles; }
     const TraceGroup* group() const { return group_; }
 
@@ -100,6 +107,11 @@ public:
     // One clock cycle. `sphere` / `tri` are the records broadcast this cycle (-1: none).
     void tick(std::int64_t sphere, std::int64_t tri, std::uint32_t tri_sphere, const SphereInfo& info,
               bool spheres_pending) {
+        tick_back(tri, tri_sphere);
+        tick_front(sphere, info, spheres_pending);
+    }
+    // The blocks behind the Decoder: RTI, Ray Data Fetcher, Triangle Selector.
+    void tick_back(std::int64_t tri, std::uint32_t tri_sphere) {
         if (!(rti.empty() && ray_data_fetcher.idle() && triangle_fifo.empty())) {  // else nothing behind the Selector
             rti.retire(*unit_, min_distance);
             ray_data_fetcher.tick(triangle_fifo, rti);
@@ -107,10 +119,15 @@ public:
         }
         if (tri >= 0)
             triangle_selector.receive(true, std::uint32_t(tri), tri_sphere, planeid_fifo, first_tri_fifo, triangle_fifo);
+    }
+    // Decoder, PSI and Sphere Selector.
+    void tick_front(std::int64_t sphere, const SphereInfo& info, bool spheres_pending) {
         const bool hold = decoder.tick(psi, planeid_fifo, first_tri_fifo, info);
         psi.tick(sphere_fifo, hold, spheres_pending || !sphere_fifo.empty());
         if (sphere >= 0) sphere_selector.receive(true, std::uint32_t(sphere), sphere_fifo);
     }
+    bool back_idle() const { return rti.empty() && ray_data_fetcher.idle() && triangle_fifo.empty(); }
+    const GroupUnit& unit() const { return *unit_; }
     // Nothing left in flight behind the Triangle Selector.
     bool drained() const { return triangle_fifo.empty() && ray_data_fetcher.idle() && rti.empty(); }
 
@@ -149,6 +166,7 @@ private:
     std::unique_ptr<GroupUnit> unit_;
     const Functional& functional_;
     const TraceGroup* group_ = nullptr;
+    const TraceGroup* loaded_ = nullptr;
     std::uint64_t selected_before_ = 0, sphere_pushes_before_ = 0, rti_busy_before_ = 0;
     Stats stats_;
 };

@@ -33,6 +33,7 @@ public:
         return records_[i];
     }
     const SphereRecord& peek(std::size_t i) const { return records_[i]; }
+    void read_many(std::uint64_t n) { stats_.reads += n; }
     const Params& params() const { return params_; }
     const Stats& stats() const { return stats_; }
 
@@ -61,6 +62,7 @@ public:
         return tris_[i];
     }
     const TriangleRec& peek(std::size_t i) const { return tris_[i]; }
+    void read_many(std::uint64_t n) { stats_.reads += n; }
     // The sphere a triangle belongs to (its position in the stream identifies it).
     std::uint32_t sphere_of(std::size_t i) const { return sphere_of_[i]; }
     const Params& params() const { return params_; }

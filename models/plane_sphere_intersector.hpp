@@ -46,6 +46,7 @@ public:
         next_issue_ = 0;
         hits_ = hits;
         cursor_ = 0;
+        group_spheres_ = 0;
     }
     // End of a pass: figures that follow from the spheres tested.
     void end_group() {
@@ -61,6 +62,62 @@ public:
         --count_;
     }
     bool empty() const { return count_ == 0; }
+    std::size_t in_flight() const { return count_; }
+    std::uint64_t local_time() const { return t_; }
+    std::uint32_t batches() const { return batches_; }
+    std::uint64_t ready_of_front() const { return ring_[head_].ready; }
+    std::uint64_t spheres_this_group() const { return group_spheres_; }
+    void add_starved(std::uint64_t cycles) { stats_.starved_cycles += cycles; }
+
+    // Event-driven simulation: take over the pipe timing of `o` (same
+    // stream, never held) and fill in this group's own hit masks.
+    void adopt(const PlaneSphereIntersector& o) {
+        ring_ = o.ring_;
+        head_ = o.head_;
+        tail_ = o.tail_;
+        count_ = o.count_;
+        t_ = o.t_;
+        next_issue_ = o.next_issue_;
+        group_spheres_ = o.group_spheres_;
+        cursor_ = 0;
+        const auto& list = *hits_;
+        for (std::size_t i = 0, j = head_; i < count_; ++i, j = j + 1 == ring_.size() ? 0 : j + 1) {
+            PsiResult& r = ring_[j];
+            while (cursor_ < list.size() && list[cursor_].sphere < r.sphere) ++cursor_;
+            if (cursor_ < list.size() && list[cursor_].sphere == r.sphere) {
+                r.rows = list[cursor_].rows;
+                r.cols = list[cursor_].cols;
+            } else {
+                r.rows = r.cols = 0;
+            }
+        }
+    }
+    // Steady streaming (one sphere in and one result out per cycle, one batch
+    // per sphere, a full pipe): n cycles in which spheres next, next+1, ...
+    // enter. Only for a pipe whose results are not looked at (no hits).
+    void fast_forward(std::uint64_t n, std::uint32_t next) {
+        const std::size_t depth = count_;  // entries issued in the last `depth` cycles
+        auto push = [&](std::uint64_t j) {
+            PsiResult& r = ring_[tail_];
+            tail_ = tail_ + 1 == ring_.size() ? 0 : tail_ + 1;
+            ++count_;
+            r.sphere = std::uint32_t(next + j);
+            r.rows = r.cols = 0;
+            r.ready = t_ + j + params_.stages;
+        };
+        if (n >= depth) {
+            head_ = tail_ = count_ = 0;
+            for (std::uint64_t j = n - depth; j < n; ++j) push(j);
+        } else {
+            for (std::uint64_t j = 0; j < n; ++j) {
+                pop_output();
+                push(j);
+            }
+        }
+        t_ += n;
+        next_issue_ = t_;
+        group_spheres_ += n;
+    }
 
     // One clock cycle, after the Decoder has looked at the output.
     void tick(SphereFifo& in, bool stalled, bool spheres_pending) {

@@ -26,6 +26,7 @@ public:
         fifo.push(sphere);
     }
     void end_group(std::uint64_t received) { stats_.received += received; }
+    void add_blocked(std::uint64_t cycles) { stats_.blocked_link_cycles += cycles; }
     const Stats& stats() const { return stats_; }
     const Params& params() const { return params_; }
 

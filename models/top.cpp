@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "raplas/util/error.hpp"
+#include "raplas/util/parallel.hpp"
 
 namespace raplas::model {
 
@@ -43,6 +44,15 @@ Top::Top(sc_core::sc_module_name n, const SimConfig& cfg, const Trace& trace, co
     sphere_memory.load(std::move(srec));
     triangle_memory.load(trace.triangles, std::move(sphere_of));
     if (!opt_.vcd_path.empty()) setup_vcd();
+    // The event-driven mode is exact; waveforms and per-cycle hooks need every cycle.
+    event_mode_ = cfg.mode == SimMode::event && !vcd_ && !opt_.on_cycle;
+    if (event_mode_) {
+        ref_fifo_ = std::make_unique<SphereFifo>("shared_sphere_fifo", cfg.icc.sphere_fifo);
+        ref_psi_ = std::make_unique<PlaneSphereIntersector>("shared_psi", cfg.icc.psi);
+        ref_decoder_ = std::make_unique<Decoder>("shared_decoder");
+        ref_planeid_ = std::make_unique<Fifo<PlaneIdEntry>>("shared_planeid_fifo", FifoParams{1});
+        ref_first_tri_ = std::make_unique<Fifo<FirstTriEntry>>("shared_first_tri_fifo", FifoParams{1});
+    }
     SC_THREAD(run);
 }
 
@@ -220,13 +230,19 @@ void Top::check_pass(const Host::Pass& p) {
     }
 }
 
+void Top::preload(const Host::Pass& p) {
+    const std::size_t n = p.end - p.begin;
+    parallel_for(n, default_threads(), [&](std::size_t k) { iccs[k].preload(&trace_.groups[p.begin + k]); });
+}
+
 void Top::run() {
     try {
         const auto passes = host.plan(trace_.primary_groups, std::uint32_t(trace_.groups.size()));
         std::uint64_t total = 0;
         for (std::size_t i = 0; i < passes.size(); ++i) {
             if (vcd_) vcd_->pass = std::uint32_t(i);
-            std::uint64_t c = run_pass(passes[i]);
+            preload(passes[i]);
+            std::uint64_t c = event_mode_ ? run_pass_event(passes[i]) : run_pass(passes[i]);
             pass_len_ = c;
             check_pass(passes[i]);
             c += cfg_.pass_overhead_cycles;

@@ -72,6 +72,8 @@ public:
 private:
     void run();
     std::uint64_t run_pass(const Host::Pass& p);
+    std::uint64_t run_pass_event(const Host::Pass& p);
+    void preload(const Host::Pass& p);
     void check_pass(const Host::Pass& p);
     std::string stuck_report(std::uint64_t cycle) const;
     std::uint64_t progress_signature() const;
@@ -90,6 +92,14 @@ private:
 
     struct Vcd;
     std::unique_ptr<Vcd> vcd_;
+    // Event mode: the sphere side shared by every ICC that was never held.
+    bool event_mode_ = false;
+    std::unique_ptr<SphereFifo> ref_fifo_;
+    std::unique_ptr<PlaneSphereIntersector> ref_psi_;
+    std::unique_ptr<Decoder> ref_decoder_;
+    std::unique_ptr<Fifo<PlaneIdEntry>> ref_planeid_;
+    std::unique_ptr<Fifo<FirstTriEntry>> ref_first_tri_;
+    std::vector<SphereHitRec> no_hits_;
 };
 
 // Runs one simulation in this process (SystemC allows one per process).

@@ -60,6 +60,7 @@ public:
             first_ids.pop();
         }
     }
+    void add_blocked_undecided(std::uint64_t cycles) { stats_.blocked_undecided += cycles; }
     // End of a pass in which `received` triangles passed this ICC.
     void end_group(std::uint64_t received, std::uint64_t selected_before) {
         stats_.discarded += received - (stats_.selected - selected_before);

@@ -11,8 +11,11 @@ using namespace raplas::model;
 
 namespace {
 
+SimMode g_mode = SimMode::cycle;
+
 SimConfig base_config(std::uint32_t iccs, std::uint32_t depth) {
     SimConfig c;
+    c.mode = g_mode;
     c.iccs = iccs;
     c.icc.sphere_fifo.depth = depth;
     c.icc.triangle_fifo.depth = depth;
@@ -21,9 +24,14 @@ SimConfig base_config(std::uint32_t iccs, std::uint32_t depth) {
     return c;
 }
 
+class TopClosedForm : public ::testing::TestWithParam<SimMode> {
+protected:
+    void SetUp() override { g_mode = GetParam(); }
+};
+
 }  // namespace
 
-TEST(TopClosedForm, AllSpheresMissed) {
+TEST_P(TopClosedForm, AllSpheresMissed) {
     // Sphere i enters the PSI in cycle i+1 and is decided in cycle i+1+L;
     // triangle i follows one cycle later: S + L_psi + 2 cycles in all.
     const std::uint32_t S = 500;
@@ -35,7 +43,7 @@ TEST(TopClosedForm, AllSpheresMissed) {
     EXPECT_EQ(r.triangle_link.stall_cycles, c.icc.psi.stages + 2);  // waiting for the first decision
 }
 
-TEST(TopClosedForm, TriangleLagBeyondTheDecisionLatencyAddsItsExcess) {
+TEST_P(TopClosedForm, TriangleLagBeyondTheDecisionLatencyAddsItsExcess) {
     // With the triangle stream held back lag >= L_psi + 2 cycles, the first
     // decision is always ready: S + lag cycles, and no stall is counted.
     const std::uint32_t S = 500;
@@ -47,7 +55,7 @@ TEST(TopClosedForm, TriangleLagBeyondTheDecisionLatencyAddsItsExcess) {
     EXPECT_EQ(r.triangle_link.stall_cycles, 0u);
 }
 
-TEST(TopClosedForm, EverySphereHitDeepFifo) {
+TEST_P(TopClosedForm, EverySphereHitDeepFifo) {
     // Every triangle needs m = 2 x 3 ray tests; the RTI is the bottleneck from
     // the first triangle on: S*m + L_rti + L_psi + 3 cycles.
     const std::uint32_t S = 300, m = 6;
@@ -59,7 +67,7 @@ TEST(TopClosedForm, EverySphereHitDeepFifo) {
     EXPECT_EQ(r.iccs[0].rti.busy_cycles, std::uint64_t(S) * m);
 }
 
-TEST(TopClosedForm, DepthOneFifoHalvesTheRateOfOneRayTriangles) {
+TEST_P(TopClosedForm, DepthOneFifoHalvesTheRateOfOneRayTriangles) {
     // A full FIFO refuses a push even when its reader pops in the same cycle:
     // with depth 1 and one test per triangle the link delivers every other
     // cycle: 2S + L_rti + L_psi + 2 cycles.
@@ -71,7 +79,7 @@ TEST(TopClosedForm, DepthOneFifoHalvesTheRateOfOneRayTriangles) {
     EXPECT_EQ(r.total_cycles, 2ull * S + c.icc.rti.stages + c.icc.psi.stages + 2);
 }
 
-TEST(TopClosedForm, PassesAddUp) {
+TEST_P(TopClosedForm, PassesAddUp) {
     // 5 groups on 2 ICCs: 3 passes of S + L_psi + 2 cycles (+ overhead).
     const std::uint32_t S = 100;
     Trace t = test::hand_trace(S, 8, 0, 0, std::vector<bool>(S, false), 5);
@@ -83,6 +91,11 @@ TEST(TopClosedForm, PassesAddUp) {
     EXPECT_EQ(r.iccs[1].icc.groups, 2u);
     EXPECT_EQ(r.iccs[1].icc.idle_cycles, S + c.icc.psi.stages + 2u);
 }
+
+INSTANTIATE_TEST_SUITE_P(Modes, TopClosedForm, ::testing::Values(SimMode::cycle, SimMode::event),
+                         [](const ::testing::TestParamInfo<SimMode>& i) {
+                             return std::string(i.param == SimMode::cycle ? "cycle" : "event");
+                         });
 
 TEST(TopStall, AFullTriangleFifoStopsTheBroadcastForEveryIccInTheSameCycle) {
     // ICC 0's group hits every sphere with 16 rays per triangle; ICC 1's group
