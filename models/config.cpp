@@ -15,7 +15,7 @@ ParamSet machine_params() {
     p.add_int("icc.rti_stages", 25, 1, 1000, "pipeline stages of the Ray-Triangle Intersector (paper: 25)");
     p.add_int("fifo.sphere_depth", 1000, 1, 100000000, "Sphere FIFO depth, records (paper: 10/100/1000)");
     p.add_int("fifo.triangle_depth", 1000, 1, 100000000, "Triangle FIFO depth, records (paper: 10/100/1000)");
-    p.add_int("fifo.planeid_depth", 16, 1, 100000000,
+    p.add_int("fifo.planeid_depth", 1000, 1, 100000000,
               "PlaneID FIFO and First-Triangle-ID FIFO depth, hit spheres (not in the paper)");
     p.add_string("link.stall_policy", std::string("any_full"),
                  "when the Triangle Stream Link stops: any_full = any Triangle FIFO full (paper §3.1); "

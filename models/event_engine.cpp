@@ -6,17 +6,24 @@
 //     been held is identical: one shared reference pipeline stands for all of
 //     them. An ICC whose Decoder cannot queue a hit takes over the reference
 //     state and is stepped on its own from then on ("individual").
-//  2. A reference ICC does nothing visible except when the reference Decoder
-//     releases one of its hit spheres, when the triangle stream reaches the
-//     triangles of its pending spheres, and while its Triangle FIFO, Ray Data
-//     Fetcher or RTI hold work: only then is it touched.
-//  3. When no ICC holds work and the reference pipeline streams steadily (a
-//     sphere in and a decision out every cycle), nothing but the stream
-//     positions changes until the next such event: those cycles are skipped
-//     in one step.
+//  2. Behind the Triangle Selector each ICC is a work-conserving queue: a
+//     triangle selected in cycle c with m = |rows|·|cols| pairs is popped by
+//     the Ray Data Fetcher at the first free issue slot from c+1 on, issues
+//     its pairs R per cycle, and its last result leaves the RTI L cycles
+//     after its last pair. All of this follows from the selection cycle
+//     alone, and nearest hits do not depend on the order of the tests, so
+//     each selected triangle is scheduled (and tested) once, when selected.
+//     Only the Triangle FIFO's occupancy is visible to the link.
+//  3. An ICC is therefore touched only when the Decoder releases one of its
+//     hit spheres, when the triangle stream reaches its pending spheres'
+//     triangles, and while its Triangle FIFO is full. When none of that
+//     happens and the shared pipeline streams steadily (a sphere in and a
+//     decision out every cycle), nothing but the stream positions changes
+//     until the next such event: those cycles are skipped in one step.
 // The equivalence with the cycle-by-cycle mode is checked in CI on a grid of
 // scenes, ICC counts, FIFO depths and policies (tests/equivalence_modes.py).
 #include <algorithm>
+#include <deque>
 #include <queue>
 
 #include "top.hpp"
@@ -50,11 +57,14 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p) {
     std::uint64_t ref_max = 0;
     std::uint64_t lazy_sphere_blocked = 0, lazy_undecided = 0;
     const std::uint32_t stages = cfg_.icc.psi.stages;
+    const std::uint32_t rti_pipes = cfg_.icc.rti.pipes, rti_stages = cfg_.icc.rti.stages;
+    const std::uint32_t tri_depth = cfg_.icc.triangle_fifo.depth;
     const bool any_full = cfg_.icc.selector.policy == StallPolicy::any_full;
+    const bool computes = functional_.mode() == FunctionalMode::compute;  // else the trace gives the hits
 
     std::vector<Role> role(na, ref);
     std::size_t n_ref = na;
-    // Hit spheres of the reference ICCs, in sphere order.
+    // Hit spheres of every ICC, in sphere order (used for the reference ICCs).
     struct HitEv {
         std::uint32_t sphere, icc;
         std::uint64_t rows, cols;
@@ -69,8 +79,22 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p) {
     // ICCs waiting for the triangle stream to reach their head sphere, by its first triangle.
     using Wait = std::pair<std::uint32_t, std::uint32_t>;
     std::priority_queue<Wait, std::vector<Wait>, std::greater<Wait>> waiting;
-    std::vector<std::uint32_t> selecting, working, individuals, ref_full;
-    std::vector<std::uint8_t> in_working(na, 0);
+    std::vector<std::uint32_t> selecting, individuals, full_now;
+    // ICCs whose Triangle FIFO is full at the start of every cycle up to `second`.
+    std::vector<std::pair<std::uint32_t, std::uint64_t>> full_until;
+    // Back end of each ICC: the pop cycles of the triangles still in its
+    // Triangle FIFO, the next free RTI issue slot, and the cycle from whose
+    // end on it is empty.
+    struct Back {
+        std::deque<std::uint64_t> starts;
+        std::uint64_t next_cyc = 0;
+        std::uint32_t next_used = 0;
+        bool any = false;
+        std::uint64_t done = 0;
+    };
+    std::vector<Back> back(na);
+    std::vector<std::uint8_t> is_full(na, 0);
+    std::uint64_t max_done = 0;
 
     auto adopt_reference = [&](std::size_t k) {
         Icc& c = *active[k];
@@ -83,6 +107,53 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p) {
         c.psi.add_starved(rp.stats().starved_cycles - rp_starved0);
     };
     auto first_tri = [&](std::uint32_t sphere) { return sphere_memory.peek(sphere).first_tri; };
+    auto decided_of = [&](std::size_t k) { return role[k] == ref ? rd.decided() : active[k]->decoder.decided(); };
+    // Triangle tri (of the head sphere) selected by ICC k in cycle c.
+    auto select = [&](std::uint32_t k, std::uint32_t tri, std::uint64_t c) {
+        Icc& icc = *active[k];
+        const PlaneIdEntry masks = icc.triangle_selector.take(tri, icc.planeid_fifo, icc.first_tri_fifo);
+        Back& b = back[k];
+        while (!b.starts.empty() && b.starts.front() <= c) b.starts.pop_front();  // popped by this cycle's Fetcher
+        const std::uint64_t m = std::uint64_t(__builtin_popcountll(masks.rows)) * std::uint64_t(__builtin_popcountll(masks.cols));
+        std::uint64_t start = c + 1;
+        std::uint32_t used = 0;
+        if (b.any && b.next_cyc >= start) {
+            start = b.next_cyc;
+            used = b.next_used;
+            if (used == rti_pipes) {
+                ++start;
+                used = 0;
+            }
+        }
+        const std::uint64_t total = used + m;
+        const std::uint64_t end = start + (total - 1) / rti_pipes;
+        b.next_cyc = end;
+        b.next_used = std::uint32_t((total - 1) % rti_pipes + 1);
+        b.any = true;
+        b.done = end + rti_stages;
+        max_done = std::max(max_done, b.done);
+        b.starts.push_back(start);
+        icc.triangle_fifo.record_push(std::uint32_t(b.starts.size()));
+        // Full from the next cycle until the Fetcher pops the head (a full
+        // FIFO takes no push, so nothing else can change that).
+        if (b.starts.size() >= tri_depth) full_until.push_back({k, b.starts.front()});
+        // The RTI's tests, all at once: the nearest hit does not depend on their order.
+        std::uint64_t nhits = 0;
+        GroupUnit& unit = icc.unit();
+        for (std::uint64_t rm = computes ? masks.rows : 0; rm; rm &= rm - 1) {
+            const std::uint32_t v = std::uint32_t(__builtin_ctzll(rm));
+            for (std::uint64_t cm = masks.cols; cm; cm &= cm - 1) {
+                const std::uint32_t h = std::uint32_t(__builtin_ctzll(cm));
+                double t;
+                if (unit.rti(v * n + h, tri, t)) {
+                    ++nhits;
+                    icc.min_distance.update(v * n + h, t, tri);
+                }
+            }
+        }
+        icc.rti.account(m, nhits, (end - start + 1) - (used > 0 ? 1 : 0));
+        icc.ray_data_fetcher.note_triangle();
+    };
 
     std::uint64_t cycle = 0;
     std::uint64_t last_sig = progress_signature(), last_change = 0;
@@ -94,7 +165,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p) {
         const std::uint32_t ts = t_has ? triangle_memory.sphere_of(tp) : 0;
 
         // ---- skip steady streaming -------------------------------------
-        if (individuals.empty() && working.empty() && selecting.empty() && n_ref > 0 && s_has && t_has &&
+        if (individuals.empty() && selecting.empty() && full_now.empty() && n_ref > 0 && s_has && t_has &&
             rp.batches() == 1 && rp.in_flight() == stages && rp.has_output() && !rf.empty() && !rf.full() &&
             rd.decided() > ts) {
             const std::uint32_t xf = rp.output().sphere;  // decided now; then xf+1, xf+2, ... one per cycle
@@ -121,36 +192,33 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p) {
         }
 
         // ---- link decisions (state at the start of the cycle) -----------
+        auto tri_blocker = [&](std::uint32_t k) {  // ICC k's Triangle FIFO stops this triangle
+            return is_full[k] && (any_full || TriangleSelector::wants(ts, active[k]->first_tri_fifo));
+        };
         bool s_ok = s_has, t_ok = t_has;
         if (n_ref) {
             s_ok = s_ok && !rf.full();
             t_ok = t_ok && rd.decided() > ts;
-            if (t_ok)
-                for (std::uint32_t k : ref_full)
-                    if (any_full || TriangleSelector::wants(ts, active[k]->first_tri_fifo)) t_ok = false;
         }
         for (std::uint32_t k : individuals) {
             s_ok = s_ok && active[k]->sphere_ready();
-            t_ok = t_ok && active[k]->triangle_ready(ts);
+            t_ok = t_ok && active[k]->decoder.decided() > ts;
         }
+        if (t_ok)
+            for (std::uint32_t k : full_now)
+                if (tri_blocker(k)) t_ok = false;
         if (s_has && !s_ok) {
             if (n_ref && rf.full()) ++lazy_sphere_blocked;
             for (std::uint32_t k : individuals)
                 if (!active[k]->sphere_ready()) active[k]->note_sphere_blocked();
         }
         if (t_has && !t_ok) {
-            if (n_ref) {
-                if (rd.decided() <= ts) {
-                    ++lazy_undecided;
-                } else
-                    for (std::uint32_t k : ref_full)
-                        if (any_full || TriangleSelector::wants(ts, active[k]->first_tri_fifo)) {
-                            // a reference ICC's own Decoder count is not kept up to date: use the shared one
-                            active[k]->triangle_selector.note_blocked(ts, rd.decided(), active[k]->triangle_fifo);
-                        }
-            }
+            if (n_ref && rd.decided() <= ts) ++lazy_undecided;
             for (std::uint32_t k : individuals)
-                if (!active[k]->triangle_ready(ts)) active[k]->note_triangle_blocked(ts);
+                if (active[k]->decoder.decided() <= ts) active[k]->triangle_selector.add_blocked_undecided(1);
+            for (std::uint32_t k : full_now)
+                if (decided_of(k) > ts && tri_blocker(k))
+                    active[k]->triangle_selector.note_blocked_full(active[k]->triangle_fifo);
         }
         std::int64_t s = -1, t = -1;
         if (s_ok) {
@@ -173,24 +241,18 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p) {
         }
         const bool spheres_pending = sphere_link.has_record();
 
-        // ---- reference ICCs: back ends, then triangle selection -----------
-        for (std::uint32_t k : working) active[k]->tick_back(-1, 0);
+        // ---- triangle selection ------------------------------------------
         if (t >= 0) {
             while (!waiting.empty() && waiting.top().first <= std::uint32_t(t)) {
-                const std::uint32_t k = waiting.top().second;
+                selecting.push_back(waiting.top().second);
                 waiting.pop();
-                if (role[k] == ref) selecting.push_back(k);
             }
             for (std::size_t i = 0; i < selecting.size();) {
                 const std::uint32_t k = selecting[i];
-                Icc& c = *active[k];
-                c.triangle_selector.receive(true, std::uint32_t(t), ts, c.planeid_fifo, c.first_tri_fifo, c.triangle_fifo);
-                if (!in_working[k]) {
-                    in_working[k] = 1;
-                    working.push_back(k);
-                }
-                if (c.first_tri_fifo.empty() || c.first_tri_fifo.front().sphere != ts) {
-                    if (!c.first_tri_fifo.empty()) waiting.push({c.first_tri_fifo.front().first, k});
+                select(k, std::uint32_t(t), cycle);
+                const Fifo<FirstTriEntry>& f = active[k]->first_tri_fifo;
+                if (f.empty() || f.front().sphere != ts) {
+                    if (!f.empty()) waiting.push({f.front().first, k});
                     selecting[i] = selecting.back();
                     selecting.pop_back();
                 } else {
@@ -199,7 +261,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p) {
             }
         }
 
-        // ---- reference Decoder: release hit spheres to their ICCs ---------
+        // ---- shared Decoder: release hit spheres to the reference ICCs ----
         std::vector<std::uint32_t> diverged;
         if (rp.has_output()) {
             const std::uint32_t x = rp.output().sphere;
@@ -229,43 +291,35 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p) {
             ref_max = std::max<std::uint64_t>(ref_max, rf.size());
         }
 
-        // ---- individual ICCs --------------------------------------------
-        for (std::uint32_t k : individuals) active[k]->tick(s, t, ts, info, spheres_pending);
-        for (std::uint32_t k : diverged) {
-            active[k]->tick_front(s, info, spheres_pending);
-            individuals.push_back(k);
-            if (in_working[k]) {
-                in_working[k] = 0;
-                working.erase(std::find(working.begin(), working.end(), k));
-            }
-            auto it = std::find(selecting.begin(), selecting.end(), k);
-            if (it != selecting.end()) selecting.erase(it);
+        // ---- individual ICCs: their own sphere side -----------------------
+        for (std::uint32_t k : diverged) individuals.push_back(k);
+        for (std::uint32_t k : individuals) {
+            Icc& c = *active[k];
+            const bool was_empty = c.first_tri_fifo.empty();
+            c.tick_front(s, info, spheres_pending);
+            if (was_empty && !c.first_tri_fifo.empty()) waiting.push({c.first_tri_fifo.front().first, k});
         }
 
-        // ---- bookkeeping ------------------------------------------------
-        ref_full.clear();
-        for (std::size_t i = 0; i < working.size();) {
-            const std::uint32_t k = working[i];
-            if (active[k]->back_idle()) {
-                in_working[k] = 0;
-                working[i] = working.back();
-                working.pop_back();
+        // ---- Triangle FIFOs full at the start of the next cycle ----------
+        for (std::uint32_t k : full_now) is_full[k] = 0;
+        full_now.clear();
+        for (std::size_t i = 0; i < full_until.size();) {
+            if (full_until[i].second <= cycle) {  // head popped by the end of this cycle
+                full_until[i] = full_until.back();
+                full_until.pop_back();
                 continue;
             }
-            if (active[k]->triangle_fifo.full()) ref_full.push_back(k);
+            is_full[full_until[i].first] = 1;
+            full_now.push_back(full_until[i].first);
             ++i;
         }
-        std::sort(ref_full.begin(), ref_full.end());  // notes in ICC order, as in cycle mode
+        std::sort(full_now.begin(), full_now.end());
         ++cycle;
-        if (!sphere_link.has_record() && !triangle_link.has_record() && working.empty() && selecting.empty()) {
-            bool drained = true;
-            for (std::uint32_t k : individuals) drained = drained && active[k]->drained();
-            if (drained) break;
-        }
+        if (!sphere_link.has_record() && !triangle_link.has_record() && selecting.empty() && max_done < cycle) break;
         if (++since_sync_ >= cfg_.sync_cycles) {
             wait(period_ * double(since_sync_));
             since_sync_ = 0;
-            const std::uint64_t sig = progress_signature();
+            const std::uint64_t sig = progress_signature() + std::uint64_t(max_done);
             if (sig != last_sig) {
                 last_sig = sig;
                 last_change = cycle;

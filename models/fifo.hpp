@@ -52,6 +52,12 @@ public:
         count_ = 0;
     }
     void note_full() { ++stats_.full_cycles; }
+    // Event-driven simulation keeps the contents elsewhere and records here:
+    // a push leaving `occupancy` entries.
+    void record_push(std::uint32_t occupancy) {
+        ++stats_.pushes;
+        if (occupancy > stats_.max_occupancy) stats_.max_occupancy = occupancy;
+    }
     const Stats& stats() const { return stats_; }
     const Params& params() const { return params_; }
 

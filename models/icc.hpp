@@ -35,7 +35,7 @@ public:
     struct Params {
         FifoParams sphere_fifo{1000};
         FifoParams triangle_fifo{1000};
-        FifoParams planeid_fifo{16};
+        FifoParams planeid_fifo{1000};
         PlaneSphereIntersector::Params psi;
         RayTriangleIntersector::Params rti;
         TriangleSelector::Params selector;
@@ -128,6 +128,7 @@ public:
     }
     bool back_idle() const { return rti.empty() && ray_data_fetcher.idle() && triangle_fifo.empty(); }
     const GroupUnit& unit() const { return *unit_; }
+    GroupUnit& unit() { return *unit_; }
     // Nothing left in flight behind the Triangle Selector.
     bool drained() const { return triangle_fifo.empty() && ray_data_fetcher.idle() && rti.empty(); }
 

@@ -25,6 +25,7 @@ public:
     }
     bool idle() const { return !busy_; }
     void add_starved(std::uint64_t cycles) { stats_.starved_cycles += cycles; }
+    void note_triangle() { ++stats_.triangles; }
 
     void tick(Fifo<TriWork>& in, RayTriangleIntersector& rti) {
         while (rti.can_issue()) {

@@ -51,6 +51,13 @@ public:
         inflight_ -= n;
         count_[idx_] = 0;
     }
+    // Event-driven simulation: `tests` pairs, `hits` of them hits, entering
+    // in `busy` distinct cycles, accounted at once.
+    void account(std::uint64_t tests, std::uint64_t hits, std::uint64_t busy) {
+        stats_.tests += tests;
+        stats_.hits += hits;
+        stats_.busy_cycles += busy;
+    }
     bool can_issue() const { return count_[idx_] < params_.pipes; }
     void issue(const RtiOp& op) {
         ops_[std::size_t(idx_) * params_.pipes + count_[idx_]++] = op;

@@ -256,7 +256,13 @@ void Top::run() {
     } catch (const std::exception& e) {
         error_ = e.what();
     }
-    // The thread ends here; sc_start() returns when no event is left.
+    // sc_start() returns when no event is left. The thread parks here for good
+    // rather than returning: a returning thread's last switch (QuickThreads
+    // abort) is not reported to AddressSanitizer by Debian's SystemC 2.3.4,
+    // which then keeps this coroutine's freed stack as the main thread's stack
+    // and crashes LeakSanitizer at exit. wait() with no static sensitivity
+    // never resumes.
+    wait();
 }
 
 SimResult simulate(const Trace& trace, const SimConfig& cfg, const SimOptions& opt) {

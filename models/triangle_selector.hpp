@@ -61,6 +61,22 @@ public:
         }
     }
     void add_blocked_undecided(std::uint64_t cycles) { stats_.blocked_undecided += cycles; }
+    // Event-driven simulation: triangle `tri` of the head sphere taken; pops
+    // the head entry after its last triangle. Returns its plane masks.
+    PlaneIdEntry take(std::uint32_t tri, Fifo<PlaneIdEntry>& plane_ids, Fifo<FirstTriEntry>& first_ids) {
+        const PlaneIdEntry p = plane_ids.front();
+        ++stats_.selected;
+        const FirstTriEntry& f = first_ids.front();
+        if (tri + 1 == f.first + f.count) {
+            plane_ids.pop();
+            first_ids.pop();
+        }
+        return p;
+    }
+    void note_blocked_full(Fifo<TriWork>& tri_fifo) {
+        ++stats_.blocked_fifo_full;
+        tri_fifo.note_full();
+    }
     // End of a pass in which `received` triangles passed this ICC.
     void end_group(std::uint64_t received, std::uint64_t selected_before) {
         stats_.discarded += received - (stats_.selected - selected_before);
