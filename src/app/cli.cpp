@@ -143,6 +143,10 @@ int run_cli(int argc, char** argv) {
     auto* simulate = app.add_subcommand("simulate", "run the front end and the cycle-accurate SystemC model");
     add_simulate_options(simulate, sim);
 
+    SweepArgs sweep_args;
+    auto* sweep = app.add_subcommand("sweep", "simulate every scene x ICC count x FIFO depth (docs/SWEEPS.md)");
+    add_sweep_options(sweep, sweep_args);
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -159,6 +163,7 @@ int run_cli(int argc, char** argv) {
         if (render->parsed()) return cmd_render(render_so, out_png, heatmap, hits, json);
         if (trace->parsed()) return cmd_trace(trace_so, trace_out, trace_json);
         if (simulate->parsed()) return cmd_simulate(sim);
+        if (sweep->parsed()) return cmd_sweep(sweep_args);
     } catch (const InputError& e) {
         std::cerr << "raplas: error: " << e.what() << "\n";
         return kExitInputError;

@@ -39,4 +39,17 @@ struct SimulateArgs {
 void add_simulate_options(CLI::App* cmd, SimulateArgs& a);
 int cmd_simulate(const SimulateArgs& a);
 
+struct SweepArgs {
+    std::vector<std::string> scenes, meshes;
+    std::string config, out, work_dir, emit_jobs;
+    std::vector<std::string> sets;
+    std::vector<std::uint32_t> iccs, fifo;  // empty: the config's value
+    unsigned jobs = 0;                      // 0: number of cores
+    bool merge = false, progress = false, quiet = false;
+    const CLI::App* cmd = nullptr;          // gives the order of --scene and --mesh
+};
+
+void add_sweep_options(CLI::App* cmd, SweepArgs& a);
+int cmd_sweep(const SweepArgs& a);
+
 }  // namespace raplas
