@@ -1,0 +1,499 @@
+// Wall time of the RAPLAS front end (render_frame, per phase) against Embree 3
+// tracing the very same primary and shadow rays, in one run. Prints Markdown
+// tables; --json writes every number.
+#include <embree3/rtcore.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "raplas/frontend/frame.hpp"
+#include "raplas/scene/scene.hpp"
+#include "raplas/util/parallel.hpp"
+
+#ifndef RAPLAS_SHARED_SCENES
+#define RAPLAS_SHARED_SCENES "../shared/scenes"
+#endif
+#ifndef RAPLAS_SOURCE_DIR
+#define RAPLAS_SOURCE_DIR "."
+#endif
+
+namespace raplas {
+namespace {
+
+namespace fs = std::filesystem;
+using clock_type = std::chrono::steady_clock;
+
+double since(clock_type::time_point t0) {
+    return std::chrono::duration<double>(clock_type::now() - t0).count();
+}
+
+struct Options {
+    std::vector<std::string> scenes{"bunny", "conference"};
+    int size = 64;
+    unsigned threads = 0;
+    int repeat = 3;
+    int frontend_repeat = 1;
+    bool frontend_single = false;
+    std::string json;
+    std::string shared = RAPLAS_SHARED_SCENES;
+    std::string scene_dir = std::string(RAPLAS_SOURCE_DIR) + "/scenes";
+};
+
+// Scenes the benchmark knows: mesh, and a camera and light for when the
+// project has no scene file of that name.
+struct KnownScene {
+    std::string name, mesh;
+    std::vector<std::string> fallback;  // scene keys; empty = automatic camera and light
+};
+
+const std::vector<KnownScene> kKnown = {
+    {"bunny", "bunny/bun_zipper.obj", {}},
+    // The room is closed: camera and light inside it (units: 0.003 m).
+    {"conference",
+     "conference/conference.obj",
+     {"camera.eye=[1300, 300, -200]", "camera.look_at=[0, 200, -200]", "camera.fov_deg=60",
+      "light.corner=[200, 620, -400]", "light.edge_u=[300, 0, 0]", "light.edge_v=[0, 0, 300]"}},
+};
+
+// ---- Embree ----------------------------------------------------------------
+
+class EmbreeScene {
+public:
+    EmbreeScene(const Mesh& mesh, unsigned threads) {
+        const std::string cfg = "threads=" + std::to_string(threads);
+        device_ = rtcNewDevice(cfg.c_str());
+        if (!device_) throw std::runtime_error("rtcNewDevice failed");
+        const auto t0 = clock_type::now();
+        scene_ = rtcNewScene(device_);
+        RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+        auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                               4 * sizeof(float), mesh.vertices.size()));
+        for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+            vb[4 * i + 0] = mesh.vertices[i].x;
+            vb[4 * i + 1] = mesh.vertices[i].y;
+            vb[4 * i + 2] = mesh.vertices[i].z;
+            vb[4 * i + 3] = 0.0f;
+        }
+        auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                  3 * sizeof(unsigned), mesh.triangles.size()));
+        for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
+            for (std::size_t k = 0; k < 3; ++k) ib[3 * i + k] = mesh.triangles[i][k];
+        rtcCommitGeometry(geom);
+        rtcAttachGeometry(scene_, geom);
+        rtcReleaseGeometry(geom);
+        rtcCommitScene(scene_);
+        build_s_ = since(t0);
+        if (rtcGetDeviceError(device_) != RTC_ERROR_NONE) throw std::runtime_error("Embree scene build failed");
+    }
+    ~EmbreeScene() {
+        rtcReleaseScene(scene_);
+        rtcReleaseDevice(device_);
+    }
+    EmbreeScene(const EmbreeScene&) = delete;
+    EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+    double build_s() const { return build_s_; }
+
+    // Ray parameter of the nearest hit in (0, inf), or -1 for a miss.
+    float intersect(const Ray& r) const {
+        RTCIntersectContext ctx;
+        rtcInitIntersectContext(&ctx);
+        RTCRayHit rh;
+        set_ray(rh.ray, r, std::numeric_limits<float>::infinity());
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(scene_, &ctx, &rh);
+        return rh.hit.geomID != RTC_INVALID_GEOMETRY_ID ? rh.ray.tfar : -1.0f;
+    }
+    // Anything in (0, r.tmax]?
+    bool occluded(const Ray& r) const {
+        RTCIntersectContext ctx;
+        rtcInitIntersectContext(&ctx);
+        RTCRay ray;
+        set_ray(ray, r, r.tmax);
+        rtcOccluded1(scene_, &ctx, &ray);
+        return ray.tfar < 0;
+    }
+
+private:
+    static void set_ray(RTCRay& ray, const Ray& r, float tfar) {
+        ray.org_x = r.o.x;
+        ray.org_y = r.o.y;
+        ray.org_z = r.o.z;
+        ray.tnear = 0.0f;
+        ray.dir_x = r.d.x;
+        ray.dir_y = r.d.y;
+        ray.dir_z = r.d.z;
+        ray.time = 0.0f;
+        ray.tfar = tfar;
+        ray.mask = 0xffffffffu;
+        ray.id = 0;
+        ray.flags = 0;
+    }
+
+    RTCDevice device_ = nullptr;
+    RTCScene scene_ = nullptr;
+    double build_s_ = 0;
+};
+
+// Runs body(i) for i in [0, n) on `threads` threads in chunks; returns the
+// best wall time of `repeat` runs.
+template <class F>
+double best_time(std::size_t n, unsigned threads, int repeat, F&& body) {
+    constexpr std::size_t kChunk = 256;
+    const std::size_t chunks = (n + kChunk - 1) / kChunk;
+    double best = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < std::max(1, repeat); ++k) {
+        const auto t0 = clock_type::now();
+        parallel_for(chunks, threads, [&](std::size_t c) {
+            const std::size_t end = std::min(n, (c + 1) * kChunk);
+            for (std::size_t i = c * kChunk; i < end; ++i) body(i);
+        });
+        best = std::min(best, since(t0));
+    }
+    return best;
+}
+
+// ---- one scene ---------------------------------------------------------------
+
+struct Result {
+    std::string name, source;
+    std::size_t triangles = 0, spheres = 0;
+    int tris_per_sphere = 0, width = 0, height = 0, group_size = 0, shadow_group_size = 0;
+    unsigned threads = 0;
+    int frontend_repeat = 1, embree_repeat = 1;
+    double load_s = 0;
+    PhaseTimes fe;          // front end, `threads` threads
+    PhaseTimes fe_single;   // front end, one thread (when asked)
+    bool has_single = false;
+    std::size_t primary_groups = 0, primary_rays = 0, shadow_groups = 0, shadow_rays = 0;
+    std::uint64_t fe_plane_tests = 0, fe_rt_tests = 0;
+    double shadow_setup_s = 0;
+    double em_build_1 = 0, em_build_n = 0;
+    double em_primary_1 = 0, em_primary_n = 0;
+    double em_shadow_1 = 0, em_shadow_n = 0;
+    std::size_t primary_hit_mismatch = 0, primary_t_mismatch = 0;
+    std::uint64_t fe_occluded = 0, em_occluded = 0;
+};
+
+double total(const PhaseTimes& t) { return t.spheres_s + t.primary_s + t.shadow_s + t.shade_s; }
+
+Scene load_bench_scene(const KnownScene& k, const Options& o, std::string& source) {
+    std::vector<std::string> overrides = {"image.width=" + std::to_string(o.size),
+                                          "image.height=" + std::to_string(o.size), "groups.size=16",
+                                          "groups.shadow_size=16"};
+    const fs::path file = fs::path(o.scene_dir) / (k.name + ".toml");
+    if (fs::is_regular_file(file)) {
+        source = file.lexically_relative(fs::path(RAPLAS_SOURCE_DIR)).string();
+        if (source.empty() || source.rfind("..", 0) == 0) source = file.string();
+        SceneRequest req;
+        req.scene_file = file.string();
+        req.overrides = overrides;
+        return load_scene(req);
+    }
+    const std::string mesh = o.shared + "/" + k.mesh;
+    source = k.mesh + (k.fallback.empty() ? " (automatic camera and light)" : " (built-in camera and light)");
+    ParamSet p = scene_params();
+    for (const auto& s : k.fallback) p.set(s);
+    for (const auto& s : overrides) p.set(s);
+    return scene_from_params(p, mesh);
+}
+
+Result run_scene(const KnownScene& k, const Options& o, unsigned threads) {
+    Result r;
+    r.name = k.name;
+    r.threads = threads;
+    r.frontend_repeat = o.frontend_repeat;
+    r.embree_repeat = o.repeat;
+    auto t0 = clock_type::now();
+    const Scene scene = load_bench_scene(k, o, r.source);
+    r.load_s = since(t0);
+    r.triangles = scene.mesh.triangle_count();
+    r.tris_per_sphere = scene.tris_per_sphere;
+    r.width = scene.width;
+    r.height = scene.height;
+    r.group_size = scene.group_size;
+    r.shadow_group_size = scene.shadow_group_size;
+    std::fprintf(stderr, "%s: %zu triangles from %s\n", k.name.c_str(), r.triangles, r.source.c_str());
+
+    FrameOptions fo;
+    fo.threads = threads;
+    std::fprintf(stderr, "%s: front end, %u threads...\n", k.name.c_str(), threads);
+    const Frame f = render_frame(scene, fo);
+    r.fe = f.times;
+    for (int i = 1; i < o.frontend_repeat; ++i) {
+        const PhaseTimes t = render_frame(scene, fo).times;
+        if (total(t) < total(r.fe)) r.fe = t;
+    }
+    r.spheres = f.spheres.sphere_count();
+    r.primary_groups = f.primary.size();
+    r.primary_rays = f.pixel_ray.size();
+    r.shadow_groups = f.shadow_group_count;
+    r.fe_plane_tests = f.primary_counts.plane_tests + f.shadow_counts.plane_tests;
+    r.fe_rt_tests = f.primary_counts.rt_tests + f.shadow_counts.rt_tests;
+    if (o.frontend_single && threads != 1) {
+        std::fprintf(stderr, "%s: front end, 1 thread...\n", k.name.c_str());
+        FrameOptions f1 = fo;
+        f1.threads = 1;
+        for (int i = 0; i < o.frontend_repeat; ++i) {
+            const PhaseTimes t = render_frame(scene, f1).times;
+            if (i == 0 || total(t) < total(r.fe_single)) r.fe_single = t;
+        }
+        r.has_single = true;
+    }
+
+    // The shadow rays the front end traced: one group per pixel whose primary ray hits.
+    t0 = clock_type::now();
+    std::vector<std::size_t> lit;
+    for (std::size_t px = 0; px < f.pixel_hit.size(); ++px)
+        if (f.pixel_hit[px].tri >= 0) lit.push_back(px);
+    const std::size_t per_group = std::size_t(scene.shadow_group_size) * std::size_t(scene.shadow_group_size);
+    std::vector<Ray> shadow_rays(lit.size() * per_group);
+    parallel_for(lit.size(), threads, [&](std::size_t i) {
+        const std::size_t px = lit[i];
+        const int x = int(px % std::size_t(scene.width)), y = int(px / std::size_t(scene.width));
+        const RayGroup g = shadow_group(scene, shadow_origin(scene, f.spheres, f.pixel_ray[px], f.pixel_hit[px]), x, y);
+        for (std::uint32_t v = 0; v < g.n; ++v)
+            for (std::uint32_t h = 0; h < g.n; ++h) shadow_rays[i * per_group + v * g.n + h] = group_ray(g, h, v);
+    });
+    r.shadow_setup_s = since(t0);
+    r.shadow_rays = shadow_rays.size();
+    for (std::size_t px : lit)
+        r.fe_occluded += std::uint64_t(std::llround((1.0 - double(f.visibility[px])) * double(per_group)));
+
+    std::fprintf(stderr, "%s: Embree...\n", k.name.c_str());
+    { const EmbreeScene single(scene.mesh, 1); r.em_build_1 = single.build_s(); }
+    const EmbreeScene em(scene.mesh, threads);
+    r.em_build_n = em.build_s();
+
+    std::vector<float> prim_t(f.pixel_ray.size());
+    auto prim = [&](std::size_t i) { prim_t[i] = em.intersect(f.pixel_ray[i]); };
+    r.em_primary_1 = best_time(prim_t.size(), 1, o.repeat, prim);
+    r.em_primary_n = best_time(prim_t.size(), threads, o.repeat, prim);
+    for (std::size_t px = 0; px < prim_t.size(); ++px) {
+        const bool fh = f.pixel_hit[px].tri >= 0, eh = prim_t[px] >= 0;
+        if (fh != eh) {
+            ++r.primary_hit_mismatch;
+        } else if (fh) {
+            const double a = f.pixel_hit[px].t, b = prim_t[px];
+            if (std::fabs(a - b) > 1e-4 * std::max(std::fabs(a), std::fabs(b))) ++r.primary_t_mismatch;
+        }
+    }
+
+    std::vector<unsigned char> occ(shadow_rays.size());
+    auto shad = [&](std::size_t i) { occ[i] = em.occluded(shadow_rays[i]) ? 1 : 0; };
+    r.em_shadow_1 = best_time(occ.size(), 1, o.repeat, shad);
+    r.em_shadow_n = best_time(occ.size(), threads, o.repeat, shad);
+    for (unsigned char c : occ) r.em_occluded += c;
+    return r;
+}
+
+// ---- reporting -----------------------------------------------------------------
+
+std::string fmt_time(double s) {
+    char buf[32];
+    if (s >= 10) std::snprintf(buf, sizeof buf, "%.1f s", s);
+    else if (s >= 1) std::snprintf(buf, sizeof buf, "%.2f s", s);
+    else if (s >= 0.01) std::snprintf(buf, sizeof buf, "%.0f ms", s * 1e3);
+    else if (s >= 0.001) std::snprintf(buf, sizeof buf, "%.1f ms", s * 1e3);
+    else std::snprintf(buf, sizeof buf, "%.2f ms", s * 1e3);
+    return buf;
+}
+
+std::string fmt_count(std::uint64_t n) {
+    std::string s = std::to_string(n);
+    for (int i = int(s.size()) - 3; i > 0; i -= 3) s.insert(std::size_t(i), ",");
+    return s;
+}
+
+std::string fmt_rate(double rays, double s) {
+    if (!(s > 0)) return "-";
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g", rays / s / 1e6);
+    return buf;
+}
+
+std::string cpu_model() {
+    std::ifstream in("/proc/cpuinfo");
+    std::string line;
+    while (std::getline(in, line)) {
+        if (line.rfind("model name", 0) == 0) {
+            auto colon = line.find(':');
+            if (colon != std::string::npos) return line.substr(line.find_first_not_of(" \t", colon + 1));
+        }
+    }
+    return "unknown";
+}
+
+std::string load_average() {
+    std::ifstream in("/proc/loadavg");
+    double one = -1;
+    in >> one;
+    if (!in) return "unknown";
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.2f", one);
+    return buf;
+}
+
+void print_markdown(const std::vector<Result>& rs, const std::string& command, const std::string& load_before,
+                    const std::string& load_after) {
+    std::cout << "Command: `" << command << "`  \n";
+    std::cout << "Machine: " << std::thread::hardware_concurrency() << " hardware threads, " << cpu_model()
+              << "; 1-minute load average " << load_before << " before the run, " << load_after << " after.\n\n";
+    for (const Result& r : rs) {
+        const unsigned T = r.threads;
+        std::cout << "### " << r.name << "\n\n";
+        std::cout << r.source << ": " << fmt_count(r.triangles) << " triangles, " << fmt_count(r.spheres)
+                  << " spheres (K = " << r.tris_per_sphere << "), " << r.width << "x" << r.height << " image, "
+                  << r.group_size << "x" << r.group_size << " primary groups (" << r.primary_groups << "), "
+                  << r.shadow_group_size << "x" << r.shadow_group_size << " shadow groups (" << fmt_count(r.shadow_groups)
+                  << ", " << fmt_count(r.shadow_rays) << " rays). OBJ load " << fmt_time(r.load_s)
+                  << ". Times: front end best of " << r.frontend_repeat << " frame(s), Embree best of "
+                  << r.embree_repeat << " run(s).\n\n";
+        std::cout << "| phase | RAPLAS front end, " << T << " thr";
+        if (r.has_single) std::cout << " | RAPLAS front end, 1 thr";
+        std::cout << " | Embree 3, 1 thr | Embree 3, " << T << " thr |\n|---|---|";
+        if (r.has_single) std::cout << "---|";
+        std::cout << "---|---|\n";
+        auto row = [&](const std::string& phase, double fe, double fe1, const std::string& e1, const std::string& en) {
+            std::cout << "| " << phase << " | " << fmt_time(fe);
+            if (r.has_single) std::cout << " | " << fmt_time(fe1);
+            std::cout << " | " << e1 << " | " << en << " |\n";
+        };
+        row("build (bounding spheres / BVH)", r.fe.spheres_s, r.fe_single.spheres_s, fmt_time(r.em_build_1),
+            fmt_time(r.em_build_n));
+        row("primary rays (" + fmt_count(r.primary_rays) + ")", r.fe.primary_s, r.fe_single.primary_s,
+            fmt_time(r.em_primary_1), fmt_time(r.em_primary_n));
+        row("shadow rays (" + fmt_count(r.shadow_rays) + ")", r.fe.shadow_s, r.fe_single.shadow_s,
+            fmt_time(r.em_shadow_1), fmt_time(r.em_shadow_n));
+        row("shading", r.fe.shade_s, r.fe_single.shade_s, "-", "-");
+        row("**total**", total(r.fe), total(r.fe_single), fmt_time(r.em_build_1 + r.em_primary_1 + r.em_shadow_1),
+            fmt_time(r.em_build_n + r.em_primary_n + r.em_shadow_n));
+        const double rays = double(r.primary_rays + r.shadow_rays);
+        std::cout << "| Mrays/s (primary + shadow, build excluded) | " << fmt_rate(rays, r.fe.primary_s + r.fe.shadow_s);
+        if (r.has_single) std::cout << " | " << fmt_rate(rays, r.fe_single.primary_s + r.fe_single.shadow_s);
+        std::cout << " | " << fmt_rate(rays, r.em_primary_1 + r.em_shadow_1) << " | "
+                  << fmt_rate(rays, r.em_primary_n + r.em_shadow_n) << " |\n\n";
+        std::cout << "Front end work: " << fmt_count(r.fe_plane_tests) << " plane-sphere tests, "
+                  << fmt_count(r.fe_rt_tests) << " ray-triangle tests. Shadow ray setup for Embree (not in its times): "
+                  << fmt_time(r.shadow_setup_s) << ". Same answers: primary hit/miss differs on "
+                  << r.primary_hit_mismatch << " rays, distance (> 1e-4 rel.) on " << r.primary_t_mismatch
+                  << "; occluded shadow rays " << fmt_count(r.fe_occluded) << " (front end) vs "
+                  << fmt_count(r.em_occluded) << " (Embree).\n\n";
+    }
+}
+
+nlohmann::json to_json(const std::vector<Result>& rs, const std::string& command, const std::string& load_before,
+                       const std::string& load_after) {
+    nlohmann::json j;
+    j["command"] = command;
+    j["machine"] = {{"hardware_threads", std::thread::hardware_concurrency()},
+                    {"cpu", cpu_model()},
+                    {"load_average_before", load_before},
+                    {"load_average_after", load_after}};
+    auto phases = [](const PhaseTimes& t) {
+        return nlohmann::json{{"spheres_s", t.spheres_s}, {"primary_s", t.primary_s}, {"shadow_s", t.shadow_s},
+                              {"shade_s", t.shade_s}};
+    };
+    for (const Result& r : rs) {
+        nlohmann::json s;
+        s["name"] = r.name;
+        s["source"] = r.source;
+        s["triangles"] = r.triangles;
+        s["spheres"] = r.spheres;
+        s["triangles_per_sphere"] = r.tris_per_sphere;
+        s["image"] = {r.width, r.height};
+        s["group_size"] = r.group_size;
+        s["shadow_group_size"] = r.shadow_group_size;
+        s["threads"] = r.threads;
+        s["frontend_repeat"] = r.frontend_repeat;
+        s["embree_repeat"] = r.embree_repeat;
+        s["load_s"] = r.load_s;
+        s["primary_groups"] = r.primary_groups;
+        s["primary_rays"] = r.primary_rays;
+        s["shadow_groups"] = r.shadow_groups;
+        s["shadow_rays"] = r.shadow_rays;
+        s["frontend"] = phases(r.fe);
+        if (r.has_single) s["frontend_1_thread"] = phases(r.fe_single);
+        s["frontend_work"] = {{"plane_sphere_tests", r.fe_plane_tests}, {"ray_triangle_tests", r.fe_rt_tests}};
+        s["embree"] = {{"build_1_thread_s", r.em_build_1}, {"build_s", r.em_build_n},
+                       {"primary_1_thread_s", r.em_primary_1}, {"primary_s", r.em_primary_n},
+                       {"shadow_1_thread_s", r.em_shadow_1}, {"shadow_s", r.em_shadow_n},
+                       {"shadow_ray_setup_s", r.shadow_setup_s}};
+        s["agreement"] = {{"primary_hit_mismatch", r.primary_hit_mismatch},
+                          {"primary_t_mismatch", r.primary_t_mismatch},
+                          {"frontend_occluded_shadow_rays", r.fe_occluded},
+                          {"embree_occluded_shadow_rays", r.em_occluded}};
+        j["scenes"].push_back(s);
+    }
+    return j;
+}
+
+}  // namespace
+}  // namespace raplas
+
+int main(int argc, char** argv) {
+    using namespace raplas;
+    Options o;
+    CLI::App app{"RAPLAS front end vs Embree 3: wall time per phase on the same rays"};
+    app.add_option("--scene", o.scenes, "scenes to run: bunny, conference (repeatable)")->capture_default_str();
+    app.add_option("--size", o.size, "image width and height")->capture_default_str()->check(CLI::Range(1, 4096));
+    app.add_option("--threads", o.threads, "threads for the front end and the multi-threaded Embree runs (0: all)")
+        ->capture_default_str();
+    app.add_option("--repeat", o.repeat, "Embree traces: best of this many runs")->capture_default_str()->check(CLI::Range(1, 100));
+    app.add_option("--frontend-repeat", o.frontend_repeat, "front end: best (by total) of this many frames")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 100));
+    app.add_flag("--frontend-single-thread", o.frontend_single, "also time the front end on one thread");
+    app.add_option("--json", o.json, "write every number as JSON");
+    app.add_option("--shared", o.shared, "shared scenes folder")->capture_default_str();
+    app.add_option("--scene-dir", o.scene_dir, "project scene files (NAME.toml used when present)")->capture_default_str();
+    CLI11_PARSE(app, argc, argv);
+
+    std::string command;
+    for (int i = 0; i < argc; ++i) command += (i ? " " : "") + std::string(i ? argv[i] : "raplas_bench_frontend");
+
+    try {
+        // Scene files name meshes relative to the shared scenes folder.
+        std::string path = o.shared;
+        if (const char* env = std::getenv("RAPLAS_SCENE_PATH")) path += std::string(":") + env;
+        setenv("RAPLAS_SCENE_PATH", path.c_str(), 1);
+
+        const std::string load_before = load_average();
+        const unsigned threads = o.threads ? o.threads : default_threads();
+        std::vector<Result> results;
+        for (const auto& name : o.scenes) {
+            auto it = std::find_if(kKnown.begin(), kKnown.end(), [&](const KnownScene& k) { return k.name == name; });
+            if (it == kKnown.end()) {
+                std::cerr << "raplas_bench_frontend: unknown scene '" << name << "' (bunny, conference)\n";
+                return 2;
+            }
+            results.push_back(run_scene(*it, o, threads));
+        }
+        const std::string load_after = load_average();
+        print_markdown(results, command, load_before, load_after);
+        if (!o.json.empty()) {
+            std::ofstream out(o.json);
+            out << to_json(results, command, load_before, load_after).dump(2) << "\n";
+            if (!out) throw std::runtime_error("cannot write " + o.json);
+        }
+    } catch (const std::exception& e) {
+        std::cerr << "raplas_bench_frontend: " << e.what() << "\n";
+        return 1;
+    }
+    return 0;
+}
