@@ -156,7 +156,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p) {
     };
 
     std::uint64_t cycle = 0;
-    std::uint64_t last_sig = progress_signature(), last_change = 0;
+    Watch watch{progress_signature(), 0};
     for (;;) {
         const std::uint32_t sp = std::uint32_t(sphere_link.position());
         const std::uint32_t tp = std::uint32_t(triangle_link.position());
@@ -221,24 +221,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p) {
                     active[k]->triangle_selector.note_blocked_full(active[k]->triangle_fifo);
         }
         std::int64_t s = -1, t = -1;
-        if (s_ok) {
-            s = sp;
-            sphere_memory.read(sp);
-            sphere_link.sent();
-        } else if (s_has) {
-            sphere_link.stalled();
-        } else {
-            sphere_link.idle();
-        }
-        if (t_ok) {
-            t = tp;
-            triangle_memory.read(tp);
-            triangle_link.sent();
-        } else if (t_has) {
-            triangle_link.stalled();
-        } else if (!triangle_link.has_record()) {
-            triangle_link.idle();
-        }
+        broadcast(s_has, s_ok, t_has, t_ok, s, t);
         const bool spheres_pending = sphere_link.has_record();
 
         // ---- triangle selection ------------------------------------------
@@ -316,17 +299,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p) {
         std::sort(full_now.begin(), full_now.end());
         ++cycle;
         if (!sphere_link.has_record() && !triangle_link.has_record() && selecting.empty() && max_done < cycle) break;
-        if (++since_sync_ >= cfg_.sync_cycles) {
-            wait(period_ * double(since_sync_));
-            since_sync_ = 0;
-            const std::uint64_t sig = progress_signature() + std::uint64_t(max_done);
-            if (sig != last_sig) {
-                last_sig = sig;
-                last_change = cycle;
-            } else if (cycle - last_change >= cfg_.watchdog_cycles) {
-                throw std::runtime_error(stuck_report(cycle));
-            }
-        }
+        if (++since_sync_ >= cfg_.sync_cycles) sync_time(cycle, watch, max_done);
     }
     for (std::size_t k = 0; k < na; ++k)
         if (role[k] == ref) adopt_reference(k);

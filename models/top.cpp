@@ -137,6 +137,39 @@ std::string Top::stuck_report(std::uint64_t cycle) const {
     return o.str();
 }
 
+void Top::broadcast(bool s_has, bool s_ok, bool t_has, bool t_ok, std::int64_t& s, std::int64_t& t) {
+    if (s_ok) {
+        s = std::int64_t(sphere_link.position());
+        sphere_memory.read(std::size_t(s));
+        sphere_link.sent();
+    } else if (s_has) {
+        sphere_link.stalled();
+    } else {
+        sphere_link.idle();
+    }
+    if (t_ok) {
+        t = std::int64_t(triangle_link.position());
+        triangle_memory.read(std::size_t(t));
+        triangle_link.sent();
+    } else if (t_has) {
+        triangle_link.stalled();
+    } else if (!triangle_link.has_record()) {
+        triangle_link.idle();  // (before the triangle lag has passed it is neither)
+    }
+}
+
+void Top::sync_time(std::uint64_t cycle, Watch& w, std::uint64_t extra_progress) {
+    wait(period_ * double(since_sync_));
+    since_sync_ = 0;
+    const std::uint64_t sig = progress_signature() + extra_progress;
+    if (sig != w.signature) {
+        w.signature = sig;
+        w.changed_at = cycle;
+    } else if (cycle - w.changed_at >= cfg_.watchdog_cycles) {
+        throw std::runtime_error(stuck_report(cycle));
+    }
+}
+
 std::uint64_t Top::run_pass(const Host::Pass& p) {
     std::vector<Icc*> active;
     for (std::size_t k = 0; k < iccs.size(); ++k) {
@@ -149,7 +182,7 @@ std::uint64_t Top::run_pass(const Host::Pass& p) {
     triangle_link.start_pass(triangle_memory.size());
     const SphereInfo info{&sphere_memory};
     std::uint64_t cycle = 0;
-    std::uint64_t last_sig = progress_signature(), last_change = 0;
+    Watch watch{progress_signature(), 0};
     for (;;) {
         std::int64_t s = -1, t = -1;
         const bool s_has = sphere_link.has_record();
@@ -169,24 +202,7 @@ std::uint64_t Top::run_pass(const Host::Pass& p) {
         if (t_has && !t_ok)
             for (Icc* c : active)
                 if (!c->triangle_ready(ts)) c->note_triangle_blocked(ts);
-        if (s_ok) {
-            s = std::int64_t(sphere_link.position());
-            sphere_memory.read(std::size_t(s));
-            sphere_link.sent();
-        } else if (s_has) {
-            sphere_link.stalled();
-        } else {
-            sphere_link.idle();
-        }
-        if (t_ok) {
-            t = ti;
-            triangle_memory.read(ti);
-            triangle_link.sent();
-        } else if (t_has) {
-            triangle_link.stalled();
-        } else if (!triangle_link.has_record()) {
-            triangle_link.idle();
-        }
+        broadcast(s_has, s_ok, t_has, t_ok, s, t);
         const bool s_stall = s_has && !s_ok, t_stall = t_has && !t_ok;
         const bool spheres_pending = sphere_link.has_record();
         for (Icc* c : active) c->tick(s, t, ts, info, spheres_pending);
@@ -198,17 +214,7 @@ std::uint64_t Top::run_pass(const Host::Pass& p) {
             for (Icc* c : active) drained = drained && c->drained();
             if (drained) break;
         }
-        if (++since_sync_ >= cfg_.sync_cycles) {
-            wait(period_ * double(since_sync_));
-            since_sync_ = 0;
-            const std::uint64_t sig = progress_signature();
-            if (sig != last_sig) {
-                last_sig = sig;
-                last_change = cycle;
-            } else if (cycle - last_change >= cfg_.watchdog_cycles) {
-                throw std::runtime_error(stuck_report(cycle));
-            }
-        }
+        if (++since_sync_ >= cfg_.sync_cycles) sync_time(cycle, watch, 0);
     }
     for (auto& icc : iccs)
         if (!icc.active()) icc.add_idle(cycle);

@@ -77,6 +77,13 @@ private:
     void check_pass(const Host::Pass& p);
     std::string stuck_report(std::uint64_t cycle) const;
     std::uint64_t progress_signature() const;
+    // One cycle of both Stream Links: send, stall or idle; s/t get the records sent.
+    void broadcast(bool s_has, bool s_ok, bool t_has, bool t_ok, std::int64_t& s, std::int64_t& t);
+    // Advances SystemC time by the cycles since the last sync and runs the watchdog.
+    struct Watch {
+        std::uint64_t signature = 0, changed_at = 0;
+    };
+    void sync_time(std::uint64_t cycle, Watch& w, std::uint64_t extra_progress);
     void setup_vcd();
     void sample_vcd(bool s_valid, bool s_stall, bool t_valid, bool t_stall);
 

@@ -26,7 +26,8 @@ bool is_file(const std::string& p) {
     return ::stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode);
 }
 
-// A config is a file, or a name in configs/ (working directory, then the source tree).
+}  // namespace
+
 std::string resolve_config(const std::string& c) {
     if (is_file(c)) return c;
     for (const std::string& dir : {std::string("configs"), std::string(RAPLAS_SOURCE_DIR) + "/configs"}) {
@@ -35,8 +36,6 @@ std::string resolve_config(const std::string& c) {
     }
     throw InputError("config '" + c + "' not found (a file, or a name in configs/)");
 }
-
-}  // namespace
 
 void add_simulate_options(CLI::App* cmd, SimulateArgs& a) {
     a.so.add_to(cmd, false);

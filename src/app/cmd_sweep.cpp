@@ -54,17 +54,6 @@ bool is_file(const std::string& p) {
     return ::stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode);
 }
 
-// Same lookup as `raplas simulate`: a file, or a name in configs/ (working
-// directory, then the source tree).
-std::string resolve_config(const std::string& c) {
-    if (is_file(c)) return c;
-    for (const std::string& dir : {std::string("configs"), std::string(RAPLAS_SOURCE_DIR) + "/configs"}) {
-        if (is_file(dir + "/" + c + ".toml")) return dir + "/" + c + ".toml";
-        if (is_file(dir + "/" + c)) return dir + "/" + c;
-    }
-    throw InputError("config '" + c + "' not found (a file, or a name in configs/)");
-}
-
 std::string slurp(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(path + ": cannot read: " + std::strerror(errno));

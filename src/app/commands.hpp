@@ -36,6 +36,9 @@ struct SimulateArgs {
     bool progress = false;
 };
 
+// A machine config: a file, or a name in configs/ (working directory, then the source tree).
+std::string resolve_config(const std::string& name);
+
 void add_simulate_options(CLI::App* cmd, SimulateArgs& a);
 int cmd_simulate(const SimulateArgs& a);
 
