@@ -1,3 +1,5 @@
+#include <sys/stat.h>
+
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -37,16 +39,30 @@ bool parse_index(const std::string& tok, long& out) {
     return end == tok.c_str() + tok.size() && errno == 0;
 }
 
+// One line as tinyobjloader splits them: a line ends at \n, \r\n or a lone \r.
+bool next_line(const std::string& text, std::size_t& pos, std::string& line) {
+    if (pos >= text.size()) return false;
+    std::size_t end = text.find_first_of("\r\n", pos);
+    if (end == std::string::npos) end = text.size();
+    line.assign(text, pos, end - pos);
+    pos = end;
+    if (pos < text.size() && text[pos] == '\r') ++pos;
+    if (pos < text.size() && text[pos] == '\n' && (pos == end || text[end] == '\r')) ++pos;
+    return true;
+}
+
 // Line-numbered validation before tinyobjloader parses the file (which would
 // read "nan" as 0 or index out of range): every error names FILE:LINE.
-void validate_obj(const std::string& path, const std::string& text) {
+// Returns the line of each vertex ('v'), in order.
+std::vector<long> validate_obj(const std::string& path, const std::string& text) {
     if (text.empty()) throw InputError(path + ": empty OBJ file");
     if (text.find('\0') != std::string::npos) throw InputError(path + ": not a text OBJ file (contains NUL bytes)");
     long nv = 0, nvt = 0, nvn = 0, faces = 0;
-    std::istringstream in(text);
+    std::vector<long> vertex_lines;
+    std::size_t pos = 0;
     std::string line;
     long lineno = 0;
-    while (std::getline(in, line)) {
+    while (next_line(text, pos, line)) {
         ++lineno;
         auto where = [&] { return path + ":" + std::to_string(lineno) + ": "; };
         std::istringstream ls(line);
@@ -68,6 +84,7 @@ void validate_obj(const std::string& path, const std::string& text) {
                 throw InputError(where() + "'" + kw + "' needs " + std::to_string(need) + " coordinates, got " +
                                  std::to_string(n));
             (kw == "v" ? nv : kw == "vt" ? nvt : nvn)++;
+            if (kw == "v") vertex_lines.push_back(lineno);
         } else if (kw == "f") {
             std::string tok;
             int n = 0;
@@ -93,7 +110,7 @@ void validate_obj(const std::string& path, const std::string& text) {
                 for (int k = 0; k < 3; ++k) {
                     if (!present[k]) continue;
                     long i = idx[k];
-                    if ((i > 0 && i > counts[k]) || (i < 0 && -i > counts[k]))
+                    if ((i > 0 && i > counts[k]) || (i < 0 && i < -counts[k]))
                         throw InputError(where() + std::string(names[k]) + " index " + std::to_string(i) +
                                          " is out of range (" + std::to_string(counts[k]) + " defined so far)");
                 }
@@ -104,7 +121,32 @@ void validate_obj(const std::string& path, const std::string& text) {
         }
     }
     if (faces == 0) throw InputError(path + ": no faces in OBJ file");
+    return vertex_lines;
 }
+
+// `mtllib NAME` reads DIR/NAME, and only a regular file: a FIFO or a device
+// would block or never end. With no directory, MTL files are not read.
+class MtlReader : public tinyobj::MaterialReader {
+public:
+    explicit MtlReader(std::string dir) : dir_(std::move(dir)) {}
+    bool operator()(const std::string& name, std::vector<tinyobj::material_t>* materials,
+                    std::map<std::string, int>* names, std::string* warn, std::string* err) override {
+        if (dir_.empty()) return false;
+        const std::string file = dir_ + (dir_.back() == '/' ? "" : "/") + name;
+        struct stat st{};
+        std::ifstream in;
+        if (::stat(file.c_str(), &st) == 0 && S_ISREG(st.st_mode)) in.open(file, std::ios::binary);
+        if (!in) {
+            if (warn) *warn += "material file '" + name + "' not found\n";
+            return false;
+        }
+        tinyobj::LoadMtl(names, materials, &in, warn, err);
+        return true;
+    }
+
+private:
+    std::string dir_;
+};
 
 }  // namespace
 
@@ -113,17 +155,19 @@ Mesh load_obj(const std::string& path) {
     if (!in) throw InputError(path + ": cannot open OBJ file: " + std::strerror(errno));
     std::stringstream ss;
     ss << in.rdbuf();
-    const std::string text = ss.str();
-    validate_obj(path, text);
-
     auto slash = path.find_last_of('/');
-    std::string dir = slash == std::string::npos ? "./" : path.substr(0, slash + 1);
+    return load_obj_text(ss.str(), path, slash == std::string::npos ? "./" : path.substr(0, slash + 1));
+}
+
+Mesh load_obj_text(const std::string& text, const std::string& path, const std::string& mtl_dir) {
+    const std::vector<long> vertex_lines = validate_obj(path, text);
+
     tinyobj::attrib_t attrib;
     std::vector<tinyobj::shape_t> shapes;
     std::vector<tinyobj::material_t> materials;
     std::string warn, err;
     std::istringstream obj_stream(text);
-    tinyobj::MaterialFileReader mtl_reader(dir);
+    MtlReader mtl_reader(mtl_dir);
     bool ok = tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &obj_stream, &mtl_reader, true, false);
     if (!ok || !err.empty()) {
         std::string first = err.substr(0, err.find('\n'));
@@ -143,8 +187,17 @@ Mesh load_obj(const std::string& path) {
         m.materials.push_back(mm);
     }
     m.vertices.reserve(attrib.vertices.size() / 3);
-    for (std::size_t i = 0; i + 2 < attrib.vertices.size(); i += 3)
-        m.vertices.emplace_back(float(attrib.vertices[i]), float(attrib.vertices[i + 1]), float(attrib.vertices[i + 2]));
+    for (std::size_t i = 0; i + 2 < attrib.vertices.size(); i += 3) {
+        const Vec3f v(float(attrib.vertices[i]), float(attrib.vertices[i + 1]), float(attrib.vertices[i + 2]));
+        // tinyobjloader reads numbers its own way (e.g. "-0.E809017" as NaN).
+        if (!all_finite(v)) {
+            const std::size_t k = m.vertices.size();
+            throw InputError(k < vertex_lines.size() && vertex_lines.size() == attrib.vertices.size() / 3
+                                 ? path + ":" + std::to_string(vertex_lines[k]) + ": 'v' coordinate is not a finite float"
+                                 : path + ": vertex " + std::to_string(k + 1) + " has a coordinate that is not a finite float");
+        }
+        m.vertices.push_back(v);
+    }
     for (const auto& sh : shapes) {
         std::size_t off = 0;
         for (std::size_t f = 0; f < sh.mesh.num_face_vertices.size(); ++f) {

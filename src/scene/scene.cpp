@@ -156,9 +156,14 @@ Scene scene_from_params(const ParamSet& p, const std::string& mesh_override) {
         s.camera.look_at = *at;
         s.camera.fov_deg = fov;
         s.camera.up = *p.get_vec3("camera.up");
-        if (length(s.camera.eye - s.camera.look_at) <= 0)
-            throw InputError(p.origin("camera.eye") + ": camera.eye equals camera.look_at");
-        if (length(cross(s.camera.eye - s.camera.look_at, s.camera.up)) <= 1e-12 * length(s.camera.eye - s.camera.look_at))
+        // Finite coordinates can still be too far apart for a finite distance.
+        const double dist = length(s.camera.eye - s.camera.look_at);
+        if (dist <= 0) throw InputError(p.origin("camera.eye") + ": camera.eye equals camera.look_at");
+        if (!std::isfinite(dist))
+            throw InputError(p.origin("camera.eye") + ": camera.eye and camera.look_at are too far apart");
+        const double side = length(cross(s.camera.eye - s.camera.look_at, s.camera.up));
+        if (!std::isfinite(side)) throw InputError(p.origin("camera.up") + ": camera.up is too long for the view direction");
+        if (side <= 1e-12 * dist)
             throw InputError(p.origin("camera.up") + ": camera.up is parallel to the view direction");
     } else if (builtin) {
         s.camera = {{3.2, 2.6, 5.2}, {0.0, 0.7, -0.4}, {0, 1, 0}, fov};
@@ -173,7 +178,10 @@ Scene scene_from_params(const ParamSet& p, const std::string& mesh_override) {
         s.light.corner = *lc;
         s.light.edge_u = *lu;
         s.light.edge_v = *lv;
-        if (length(cross(*lu, *lv)) <= 0) throw InputError(p.origin("light.edge_u") + ": light edges are parallel or zero");
+        const double area = length(cross(*lu, *lv));
+        if (area <= 0) throw InputError(p.origin("light.edge_u") + ": light edges are parallel or zero");
+        if (!std::isfinite(area) || !all_finite(*lc + *lu + *lv))
+            throw InputError(p.origin("light.edge_u") + ": light corner and edges are too large");
     } else if (builtin) {
         s.light.corner = {-1.5, 4.0, -0.5};
         s.light.edge_u = {1.2, 0, 0};

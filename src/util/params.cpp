@@ -37,13 +37,19 @@ std::string fmt_real(double d) {
     return s;
 }
 
+// A TOML basic string: every control character escaped (TOML allows none raw).
 std::string quote(const std::string& s) {
     std::string out = "\"";
     for (char c : s) {
+        const auto u = static_cast<unsigned char>(c);
         if (c == '"' || c == '\\') { out += '\\'; out += c; }
         else if (c == '\n') out += "\\n";
         else if (c == '\t') out += "\\t";
-        else out += c;
+        else if (u < 0x20 || u == 0x7f) {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\u%04x", u);
+            out += buf;
+        } else out += c;
     }
     return out + "\"";
 }

@@ -35,6 +35,10 @@ struct Mesh {
 // (missing/empty file, non-finite coordinate, bad index, face with < 3
 // vertices) throws InputError "FILE:LINE: ...".
 Mesh load_obj(const std::string& path);
+// Same, from OBJ text already read; `name` is used in messages and as
+// Mesh::source, `mtl_dir` is where `mtllib` files are looked up ("" = MTL
+// files are not read, every triangle gets the default material).
+Mesh load_obj_text(const std::string& text, const std::string& name, const std::string& mtl_dir);
 
 // Procedural default scene (no file needed): a floor, a back wall, a box and
 // two tessellated spheres. `detail` scales the sphere tessellation.
