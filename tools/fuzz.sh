@@ -24,6 +24,16 @@ failed=()
 for t in fuzz_obj fuzz_scene fuzz_config fuzz_trace; do
   cp -r "tests/fuzz/corpus/$t" "$run/$t"
   log=$run/$t.log
+  # Inputs that once crashed a reader but are too large to be seeds (they would
+  # raise libFuzzer's input size limit): each is run once.
+  regressions=(tests/fuzz/regressions/$t/*)
+  if [[ -e "${regressions[0]}" ]] && ! build-fuzz/tests/fuzz/$t "${regressions[@]}" >"$run/$t-regressions.log" 2>&1; then
+    echo "$t: FAILED on a regression input"
+    grep -E "^(==[0-9]+==ERROR|SUMMARY|$t: |Running: )|runtime error" "$run/$t-regressions.log" | head -20 || true
+    echo "  log: $run/$t-regressions.log"
+    failed+=("$t")
+    continue
+  fi
   # -timeout: one input taking over 10 s is a hang; -rss_limit_mb: more than
   # 2 GB is a crash (out-of-memory); leaks are crashes (LeakSanitizer).
   if build-fuzz/tests/fuzz/$t -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \

@@ -39,6 +39,36 @@ bool parse_index(const std::string& tok, long& out) {
     return end == tok.c_str() + tok.size() && errno == 0;
 }
 
+// A token that starts like a number with an exponent of 10 or more digits
+// (leading zeros aside): tinyobjloader's number parser overflows an int on
+// those. No real coordinate or colour has an exponent beyond 10^9.
+bool has_huge_exponent(const std::string& tok) {
+    const std::size_t n = tok.size();
+    auto digit = [&](std::size_t i) { return i < n && tok[i] >= '0' && tok[i] <= '9'; };
+    std::size_t i = 0;
+    if (i < n && (tok[i] == '+' || tok[i] == '-')) ++i;
+    if (!digit(i)) return false;  // tinyobjloader reads no number here
+    while (digit(i)) ++i;
+    if (i < n && tok[i] == '.') ++i;
+    while (digit(i)) ++i;
+    if (i >= n || (tok[i] != 'e' && tok[i] != 'E')) return false;
+    ++i;
+    if (i < n && (tok[i] == '+' || tok[i] == '-')) ++i;
+    while (i < n && tok[i] == '0') ++i;
+    std::size_t digits = 0;
+    while (digit(i)) ++i, ++digits;
+    return digits >= 10;
+}
+
+// Throws "FILE:LINE: ..." for the first number in a line that tinyobjloader
+// cannot read safely (an OBJ or MTL line; any keyword, any position).
+void check_exponents(const std::string& where, const std::string& line) {
+    std::istringstream ls(line);
+    std::string tok;
+    while (ls >> tok)
+        if (has_huge_exponent(tok)) throw InputError(where + "number '" + tok + "' has an exponent out of range");
+}
+
 // One line as tinyobjloader splits them: a line ends at \n, \r\n or a lone \r.
 bool next_line(const std::string& text, std::size_t& pos, std::string& line) {
     if (pos >= text.size()) return false;
@@ -68,6 +98,7 @@ std::vector<long> validate_obj(const std::string& path, const std::string& text)
         std::istringstream ls(line);
         std::string kw;
         if (!(ls >> kw) || kw[0] == '#') continue;
+        check_exponents(where(), line);
         if (kw == "v" || kw == "vt" || kw == "vn") {
             std::string tok;
             int n = 0;
@@ -140,7 +171,18 @@ public:
             if (warn) *warn += "material file '" + name + "' not found\n";
             return false;
         }
-        tinyobj::LoadMtl(names, materials, &in, warn, err);
+        std::stringstream ss;
+        ss << in.rdbuf();
+        const std::string text = ss.str();
+        std::size_t pos = 0;
+        std::string line;
+        for (long lineno = 1; next_line(text, pos, line); ++lineno) {
+            const auto first = line.find_first_not_of(" \t");
+            if (first != std::string::npos && line[first] != '#')
+                check_exponents(file + ":" + std::to_string(lineno) + ": ", line);
+        }
+        std::istringstream mtl(text);
+        tinyobj::LoadMtl(names, materials, &mtl, warn, err);
         return true;
     }
 

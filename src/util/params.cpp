@@ -1,5 +1,6 @@
 #include "raplas/util/params.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -58,6 +59,28 @@ std::string where_of(const std::string& origin, const toml::node& n) {
     const auto& src = n.source();
     if (src.begin.line > 0) return origin + ":" + std::to_string(src.begin.line);
     return origin;
+}
+
+// toml++ recurses once per level of a dotted key or table header ([a.b.c]),
+// and a few thousand levels overflow the stack (nested arrays and inline
+// tables it limits itself). Each such level needs a '.', and no scene or
+// config file comes near kMaxDots of them: more are refused before parsing.
+// Lines that start with '#' are comments (or string text) and are skipped.
+void check_nesting(const std::string& text, const std::string& origin, bool lines = true) {
+    constexpr long kMaxDots = 1024;
+    long dots = 0, line = 1;
+    for (std::size_t start = 0; start < text.size(); ++line) {
+        std::size_t end = text.find('\n', start);
+        if (end == std::string::npos) end = text.size();
+        const std::size_t first = text.find_first_not_of(" \t\r", start);
+        if (first >= end || text[first] != '#') {
+            dots += std::count(text.begin() + long(start), text.begin() + long(end), '.');
+            if (dots > kMaxDots)
+                throw InputError(origin + (lines ? ":" + std::to_string(line) : "") + ": more than " + std::to_string(kMaxDots) +
+                                 " '.' outside comments: keys or tables nested too deeply");
+        }
+        start = end + 1;
+    }
 }
 
 void flatten(const toml::table& tbl, const std::string& prefix,
@@ -199,6 +222,7 @@ void ParamSet::assign(const std::string& key, const void* node_ptr, const std::s
 }
 
 void ParamSet::load_text(const std::string& text, const std::string& origin) {
+    check_nesting(text, origin);
     toml::table tbl;
     try {
         tbl = toml::parse(text, origin);
@@ -238,6 +262,7 @@ void ParamSet::set(const std::string& assignment) {
         for (const auto& k : order_) known += (known.empty() ? "" : ", ") + k;
         throw InputError("--set: unknown " + what_ + " key '" + key + "' (known keys: " + known + ")");
     }
+    check_nesting(value, "--set " + key, false);
     toml::table tbl;
     try {
         tbl = toml::parse("v = " + value);

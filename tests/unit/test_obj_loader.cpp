@@ -189,6 +189,20 @@ TEST_F(ObjLoader, NonFiniteCoordinatesNameTheirLine) {
     EXPECT_EQ(m.vertices[2].z, -2.5e37f);
 }
 
+// Found by fuzzing: tinyobjloader's number parser overflows an int on an
+// exponent of ten or more digits, in the OBJ and in the MTL alike.
+TEST_F(ObjLoader, HugeExponentsAreRejectedInObjAndMtl) {
+    const std::string obj = write("exp.obj", std::string(kThreeVerts) + "v 1e0000000000000000001 0 2e9999999999\nf 1 2 3\n");
+    EXPECT_THAT(load_error(obj), AllOf(HasSubstr(obj + ":4:"), HasSubstr("2e9999999999"), HasSubstr("exponent")));
+    write("exp.mtl", "newmtl m\nKd 0.5 0.5 1e-12345678901\n");
+    const std::string withmtl = write("mtl.obj", std::string("mtllib exp.mtl\nusemtl m\n") + kThreeVerts + "f 1 2 3\n");
+    EXPECT_THAT(load_error(withmtl), AllOf(HasSubstr("exp.mtl:2:"), HasSubstr("1e-12345678901")));
+    // nine exponent digits, and any number of leading zeros, still load
+    const std::string ok = write("ok.obj", "v 1e-000000000000001 0 0\nv 0 1e-000000009 0\nv 0 0 1\nf 1 2 3\n");
+    Mesh m = raplas::load_obj(ok);
+    EXPECT_EQ(m.vertices[0].x, 0.1f);
+}
+
 TEST_F(ObjLoader, FaceIndexErrorsNameTheirLine) {
     struct Case {
         const char* face;

@@ -216,6 +216,25 @@ TEST_F(ParamsTest, BadFilesAreRejectedWithTheirName) {
     EXPECT_THAT(error_of([&] { q.load_file(partial); }), AllOf(HasSubstr(partial + ":2"), HasSubstr("'bogus'")));
 }
 
+// Found by fuzzing: toml++ recursed once per level of a dotted key or table
+// header and overflowed the stack at a few thousand levels.
+TEST_F(ParamsTest, DeeplyNestedKeysAreRefusedNotCrashed) {
+    ParamSet p = make();
+    std::string deep = "count = 5\n[a";
+    for (int i = 0; i < 20000; ++i) deep += ".a";
+    deep += "]\n";
+    const std::string header = write("deep.toml", deep);
+    EXPECT_THAT(error_of([&] { p.load_file(header); }), AllOf(HasSubstr(header + ":2"), HasSubstr("nested too deeply")));
+    std::string dotted = "x";
+    for (int i = 0; i < 5000; ++i) dotted += ".x";
+    EXPECT_THAT(error_of([&] { p.set(dotted + "=1"); }), HasSubstr("unknown"));
+    EXPECT_THAT(error_of([&] { p.set("sec.n = {" + dotted + " = 1}"); }), HasSubstr("nested too deeply"));
+    // dots in comments do not count
+    const std::string commented = write("comment.toml", "# " + std::string(5000, '.') + "\ncount = 6\n");
+    p.load_file(commented);
+    EXPECT_EQ(p.get_int("count"), 6);
+}
+
 TEST_F(ParamsTest, SetOverrides) {
     ParamSet p = make();
     p.set("count=42");
