@@ -37,6 +37,9 @@ ParamSet machine_params() {
                  "compute = intersectors compute with the math library (hits checked against the front end); "
                  "trace = plane-hit masks taken from the trace (faster, hits not checked)",
                  {"compute", "trace"});
+    p.add_bool("sim.cull", true,
+               "compute mode: skip, with a proof, the spheres a group's planes cannot hit when computing "
+               "plane-hit masks (bit-identical masks; false tests every sphere, as the hardware does)");
     p.add_string("sim.mode", std::string("event"),
                  "cycle = step every block every clock cycle; event = exact event-driven stepping that skips "
                  "what cannot change (same cycle counts and statistics; --vcd forces cycle)",
@@ -74,6 +77,7 @@ SimConfig config_from_params(const ParamSet& p) {
         throw InputError(p.origin("numerics.format") + ": " + e.what());
     }
     c.functional = p.get_string("sim.functional") == "trace" ? FunctionalMode::trace : FunctionalMode::compute;
+    c.cull = p.get_bool("sim.cull");
     c.mode = p.get_string("sim.mode") == "event" ? SimMode::event : SimMode::cycle;
     c.sync_cycles = std::uint64_t(p.get_int("sim.sync_cycles"));
     c.watchdog_cycles = std::uint64_t(p.get_int("sim.watchdog_cycles"));

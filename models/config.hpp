@@ -22,6 +22,7 @@ struct SimConfig {
     std::uint32_t group_size = 0, shadow_group_size = 0, triangles_per_sphere = 0;
     NumFormat format = NumFormat::float32();
     FunctionalMode functional = FunctionalMode::compute;
+    bool cull = true;  // compute mode: skip spheres a group provably misses (core/cull.hpp)
     SimMode mode = SimMode::event;
     std::uint64_t sync_cycles = 4096;      // cycles simulated between kernel time updates
     std::uint64_t watchdog_cycles = 1000000;

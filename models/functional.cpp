@@ -2,6 +2,8 @@
 
 #include <vector>
 
+#include "raplas/core/cull.hpp"
+
 namespace raplas::model {
 
 namespace {
@@ -9,7 +11,8 @@ namespace {
 template <class A>
 class ComputeFunctional final : public Functional {
 public:
-    ComputeFunctional(const Trace& t, A a) : a_(a) {
+    ComputeFunctional(const Trace& t, A a, bool cull) : a_(a) {
+        if (cull) tree_ = SphereTree(t.spheres);
         for (const auto& s : t.spheres) spheres_.push_back(load(a_, s));
         tris_.reserve(t.triangles.size());
         for (const auto& tr : t.triangles) tris_.push_back(load(a_, tr));
@@ -29,7 +32,11 @@ public:
             rays_.resize(std::size_t(n_) * n_);
             for (std::uint32_t v = 0; v < n_; ++v)
                 for (std::uint32_t h = 0; h < n_; ++h) rays_[v * n_ + h] = raplas::load(f_.a_, g.ray(h, v));
-            group_sphere_hits(f_.a_, planes_.data(), n_, g.row_valid, g.col_valid, f_.spheres_, hits_);
+            if (f_.tree_.empty())
+                group_sphere_hits(f_.a_, planes_.data(), n_, g.row_valid, g.col_valid, f_.spheres_, hits_);
+            else
+                group_sphere_hits_culled(f_.a_, g.planes.data(), planes_.data(), n_, g.row_valid, g.col_valid,
+                                         f_.spheres_, f_.tree_, hits_);
         }
         const std::vector<SphereHitRec>& sphere_hits() const override { return hits_; }
         bool rti(std::uint32_t ray, std::uint32_t tri, double& t) override {
@@ -50,6 +57,7 @@ private:
     A a_;
     SphereSoA<A> spheres_;
     std::vector<TriA<A>> tris_;
+    SphereTree tree_;  // empty: every sphere tested
 };
 
 class TraceFunctional final : public Functional {
@@ -69,12 +77,12 @@ public:
 
 }  // namespace
 
-std::unique_ptr<Functional> Functional::create(const Trace& t, const NumFormat& format, FunctionalMode mode) {
+std::unique_ptr<Functional> Functional::create(const Trace& t, const NumFormat& format, FunctionalMode mode, bool cull) {
     if (mode == FunctionalMode::trace) return std::make_unique<TraceFunctional>();
     switch (format.kind) {
-        case NumFormat::Kind::f32: return std::make_unique<ComputeFunctional<ArithF32>>(t, ArithF32{});
-        case NumFormat::Kind::f64: return std::make_unique<ComputeFunctional<ArithF64>>(t, ArithF64{});
-        case NumFormat::Kind::custom: return std::make_unique<ComputeFunctional<ArithSoft>>(t, ArithSoft{format, true});
+        case NumFormat::Kind::f32: return std::make_unique<ComputeFunctional<ArithF32>>(t, ArithF32{}, cull);
+        case NumFormat::Kind::f64: return std::make_unique<ComputeFunctional<ArithF64>>(t, ArithF64{}, cull);
+        case NumFormat::Kind::custom: return std::make_unique<ComputeFunctional<ArithSoft>>(t, ArithSoft{format, true}, cull);
     }
     return nullptr;
 }

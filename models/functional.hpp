@@ -33,7 +33,8 @@ public:
 
     // compute: the core library in `format`; trace: masks from the trace
     // (no per-test arithmetic; final hits cannot be checked).
-    static std::unique_ptr<Functional> create(const Trace& t, const NumFormat& format, FunctionalMode mode);
+    static std::unique_ptr<Functional> create(const Trace& t, const NumFormat& format, FunctionalMode mode,
+                                              bool cull = true);
 
 protected:
     FunctionalMode mode_ = FunctionalMode::compute;

@@ -273,7 +273,7 @@ void Top::run() {
 
 SimResult simulate(const Trace& trace, const SimConfig& cfg, const SimOptions& opt) {
     sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
-    auto functional = Functional::create(trace, cfg.format, cfg.functional);
+    auto functional = Functional::create(trace, cfg.format, cfg.functional, cfg.cull);
     auto top = std::make_unique<Top>("raplas", cfg, trace, *functional, opt);
     auto t0 = std::chrono::steady_clock::now();
     sc_core::sc_start();

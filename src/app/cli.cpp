@@ -34,6 +34,7 @@ int cmd_render(const SceneOptions& so, const std::string& out_png, const std::st
     FrameOptions fo;
     fo.format = fmt;
     fo.threads = so.threads;
+    fo.cull = !so.no_cull;
     fo.per_ray = !heatmap.empty();
     Frame frame = render_frame(scene, fo);
     auto t0 = std::chrono::steady_clock::now();
@@ -62,6 +63,7 @@ int cmd_trace(const SceneOptions& so, const std::string& out, const std::string&
     FrameOptions fo;
     fo.format = fmt;
     fo.threads = so.threads;
+    fo.cull = !so.no_cull;
     fo.record = true;
     Frame frame = render_frame(scene, fo);
     auto t0 = std::chrono::steady_clock::now();
@@ -90,6 +92,8 @@ void SceneOptions::add_to(CLI::App* cmd, bool with_format) {
     if (with_format)
         cmd->add_option("--format", format, "number format of the intersection tests: float32, float64, fp1-E-M[-rtz]");
     cmd->add_option("--threads", threads, "worker threads of the front end (default: all cores)");
+    cmd->add_flag("--no-cull", no_cull,
+                  "front end: test every sphere against every group (results are identical; only slower)");
     cmd->add_flag("--dump-scene", dump_scene, "print the resolved scene as TOML and exit");
     cmd->add_flag("-q,--quiet", quiet, "no summary on stdout");
 }

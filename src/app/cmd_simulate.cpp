@@ -102,6 +102,7 @@ int cmd_simulate(const SimulateArgs& a) {
         FrameOptions fo;
         fo.format = cfg.format;
         fo.threads = so.threads;
+        fo.cull = !so.no_cull;
         fo.record = true;
         Frame frame = render_frame(scene, fo);
         trace = make_trace(scene, frame, cfg.format);

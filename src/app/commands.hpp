@@ -17,6 +17,7 @@ struct SceneOptions {
     std::vector<std::string> sets;
     unsigned threads = 0;
     bool dump_scene = false;
+    bool no_cull = false;
     bool quiet = false;
 
     void add_to(CLI::App* cmd, bool with_format = true);

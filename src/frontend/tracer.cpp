@@ -1,5 +1,7 @@
 #include "raplas/frontend/tracer.hpp"
 
+#include "raplas/core/cull.hpp"
+
 namespace raplas {
 
 struct Tracer::Impl {
@@ -17,8 +19,10 @@ struct ImplT final : Tracer::Impl {
     const SphereSet& s;
     SphereSoA<A> spheres;
     std::vector<TriA<A>> tris;
+    SphereTree tree;  // empty: no culling (every sphere tested)
 
-    ImplT(A arith, const SphereSet& set) : a(arith), s(set) {
+    ImplT(A arith, const SphereSet& set, bool cull) : a(arith), s(set) {
+        if (cull) tree = SphereTree(set.spheres);
         for (const auto& sp : set.spheres) spheres.push_back(load(a, sp));
         tris.reserve(set.triangles.size());
         for (const auto& t : set.triangles) tris.push_back(load(a, t));
@@ -44,7 +48,10 @@ struct ImplT final : Tracer::Impl {
         out.counts.plane_tests = valid_planes * spheres.size();
         std::vector<SphereHitRec> local;
         std::vector<SphereHitRec>& list = record ? out.sphere_list : local;
-        group_sphere_hits(a, planes.data(), n, g.row_valid, g.col_valid, spheres, list);
+        if (tree.empty())
+            group_sphere_hits(a, planes.data(), n, g.row_valid, g.col_valid, spheres, list);
+        else
+            group_sphere_hits_culled(a, g.planes.data(), planes.data(), n, g.row_valid, g.col_valid, spheres, tree, list);
         out.counts.sphere_hits = list.size();
         for (const SphereHitRec& hit : list) {
             const std::uint32_t si = hit.sphere;
@@ -85,11 +92,13 @@ struct ImplT final : Tracer::Impl {
 
 }  // namespace
 
-Tracer::Tracer(const SphereSet& spheres, const NumFormat& format) : spheres_(spheres), format_(format) {
+Tracer::Tracer(const SphereSet& spheres, const NumFormat& format, bool cull) : spheres_(spheres), format_(format) {
     switch (format.kind) {
-        case NumFormat::Kind::f32: impl_ = std::make_unique<ImplT<ArithF32>>(ArithF32{}, spheres); break;
-        case NumFormat::Kind::f64: impl_ = std::make_unique<ImplT<ArithF64>>(ArithF64{}, spheres); break;
-        case NumFormat::Kind::custom: impl_ = std::make_unique<ImplT<ArithSoft>>(ArithSoft{format, true}, spheres); break;
+        case NumFormat::Kind::f32: impl_ = std::make_unique<ImplT<ArithF32>>(ArithF32{}, spheres, cull); break;
+        case NumFormat::Kind::f64: impl_ = std::make_unique<ImplT<ArithF64>>(ArithF64{}, spheres, cull); break;
+        case NumFormat::Kind::custom:
+            impl_ = std::make_unique<ImplT<ArithSoft>>(ArithSoft{format, true}, spheres, cull);
+            break;
     }
 }
 

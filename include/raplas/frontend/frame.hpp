@@ -15,6 +15,7 @@ struct FrameOptions {
     unsigned threads = 0;   // 0: all cores
     bool record = false;    // keep every group and its sphere-hit list (for the trace)
     bool per_ray = false;   // per-pixel work counts (heat map)
+    bool cull = true;       // skip spheres a group provably misses (bit-identical results)
 };
 
 struct PhaseTimes {

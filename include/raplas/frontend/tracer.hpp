@@ -37,7 +37,9 @@ struct GroupResult {
 
 class Tracer {
 public:
-    Tracer(const SphereSet& spheres, const NumFormat& format);
+    // cull: skip, with a proof, the spheres a group's planes cannot hit
+    // (core/cull.hpp); the results are bit-identical either way.
+    Tracer(const SphereSet& spheres, const NumFormat& format, bool cull = true);
     ~Tracer();
     Tracer(const Tracer&) = delete;
     Tracer& operator=(const Tracer&) = delete;

@@ -1,0 +1,213 @@
+// Sphere culling for the plane-sphere step: a tree of bounding spheres over
+// contiguous ranges of Sphere Memory lets a ray group skip, with a proof, the
+// spheres that none of its row planes (or none of its column planes) can hit
+// in the intersector's number format. The spheres that remain get the exact
+// Eq. 1 test of intersect.hpp, so the result of group_sphere_hits_culled()
+// equals group_sphere_hits() bit for bit, in every format. The machine itself
+// still tests every sphere (the counts of plane tests are the hardware's);
+// culling only makes the simulator faster. No dependencies.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "raplas/core/intersect.hpp"
+#include "raplas/core/numfmt.hpp"
+
+namespace raplas {
+
+// Error bounds of an arithmetic for the culling proof: one operation's
+// relative error is at most `rel`, and results below `abs` in magnitude may be
+// flushed or rounded by up to `abs`; `max` is the largest finite value.
+struct ArithBounds {
+    double rel = 0, abs = 0, max = 0;
+};
+inline ArithBounds arith_bounds(const ArithF64&) { return {std::ldexp(1.0, -53), 0x1p-1022, 1.7976931348623157e308}; }
+inline ArithBounds arith_bounds(const ArithF32&) { return {std::ldexp(1.0, -24), 0x1p-126, 3.4028234663852886e38}; }
+inline ArithBounds arith_bounds(const ArithSoft& a) {
+    // An adder without post-normalisation keeps the larger operand's exponent:
+    // it loses at most one more bit than a normalising one (relative to the
+    // larger operand), which the factor 2 covers.
+    return {a.f.unit_roundoff() * (a.normalize_add ? 1.0 : 2.0), a.f.min_normal(), a.f.max_finite()};
+}
+
+// A binary tree over Sphere Memory: every node covers a contiguous index
+// range [lo, hi) and holds a sphere (in double) enclosing all its spheres.
+// Leaves hold at most kLeaf spheres. Nodes are in pre-order: a node's left
+// child follows it, `right` is the index of its right child.
+class SphereTree {
+public:
+    static constexpr std::uint32_t kLeaf = 8;
+    struct Node {
+        double cx, cy, cz, r;
+        double cnorm;  // |centre|
+        std::uint32_t lo, hi, right;
+    };
+
+    SphereTree() = default;
+    explicit SphereTree(const std::vector<Sphere>& spheres) {
+        if (spheres.empty()) return;
+        nodes_.reserve(2 * (spheres.size() / kLeaf + 1));
+        build(spheres, 0, static_cast<std::uint32_t>(spheres.size()));
+    }
+    const std::vector<Node>& nodes() const { return nodes_; }
+    bool empty() const { return nodes_.empty(); }
+
+private:
+    std::vector<Node> nodes_;
+
+    std::uint32_t build(const std::vector<Sphere>& s, std::uint32_t lo, std::uint32_t hi) {
+        // Centre of the bounding box of the spheres, radius reaching the
+        // farthest sphere surface (computed in double, rounded up below).
+        double mn[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, mx[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+        for (std::uint32_t i = lo; i < hi; ++i) {
+            const double c[3] = {s[i].c.x, s[i].c.y, s[i].c.z};
+            for (int k = 0; k < 3; ++k) {
+                mn[k] = std::min(mn[k], c[k] - double(s[i].r));
+                mx[k] = std::max(mx[k], c[k] + double(s[i].r));
+            }
+        }
+        Node n{};
+        n.cx = 0.5 * (mn[0] + mx[0]);
+        n.cy = 0.5 * (mn[1] + mx[1]);
+        n.cz = 0.5 * (mn[2] + mx[2]);
+        double r = 0;
+        for (std::uint32_t i = lo; i < hi; ++i) {
+            const double dx = s[i].c.x - n.cx, dy = s[i].c.y - n.cy, dz = s[i].c.z - n.cz;
+            r = std::max(r, std::sqrt(dx * dx + dy * dy + dz * dz) + double(s[i].r));
+        }
+        n.r = r * (1 + 0x1p-40);  // cover the rounding of the distances above
+        n.cnorm = std::sqrt(n.cx * n.cx + n.cy * n.cy + n.cz * n.cz);
+        n.lo = lo;
+        n.hi = hi;
+        n.right = 0;
+        const auto self = static_cast<std::uint32_t>(nodes_.size());
+        nodes_.push_back(n);
+        if (hi - lo > kLeaf) {
+            // Split so that the left part is a whole number of leaves: ranges
+            // stay aligned with the sphere builder's leaf order.
+            const std::uint32_t leaves = (hi - lo + kLeaf - 1) / kLeaf;
+            const std::uint32_t mid = lo + (leaves / 2) * kLeaf;
+            build(s, lo, mid);
+            const std::uint32_t right = build(s, mid, hi);
+            nodes_[self].right = right;
+        }
+        return self;
+    }
+};
+
+namespace cull_detail {
+
+// A plane as the proof sees it: its float32 record in double, |n|, and the
+// part of the error bound that depends only on the plane.
+struct PlaneD {
+    double nx, ny, nz, w, nnorm;
+};
+
+// True when no sphere of node `nd` can be hit by plane `p` in an arithmetic
+// with bounds `b`: the double distance from the node centre exceeds the
+// node radius by more than any rounding of the exact test could make up.
+//
+// For a sphere (c, r) inside the node (|c - C| + r <= R),
+// |n.c + w| - r >= |n.C + w| - max(|n|, 1) R.
+// The format's result d' differs from n.c + w by at most
+// 8 u (|n| |c| + |w|) + 8 abs (inputs rounded into the format, three
+// products, three sums: a (1+u)^6 bound, doubled for safety, plus flushing),
+// and its radius r' from r by at most u r + abs; |c| <= |C| + R, r <= R. The
+// distance computed here in double is itself within 4 * 2^-53 (|n||C|+|w|).
+inline bool plane_misses_node(const PlaneD& p, const SphereTree::Node& nd, const ArithBounds& b) {
+    const double d = p.nx * nd.cx + p.ny * nd.cy + p.nz * nd.cz + p.w;
+    const double u = std::max(b.rel, 0x1p-52);
+    const double scale = p.nnorm * (nd.cnorm + nd.r) + std::fabs(p.w);
+    const double slack = 8 * u * scale + u * nd.r + 16 * b.abs;
+    return std::fabs(d) > std::max(p.nnorm, 1.0) * nd.r + slack;
+}
+
+}  // namespace cull_detail
+
+// Whether culling can be proven for these values in this arithmetic: every
+// magnitude that enters the test stays far below the format's largest finite
+// value (an overflow could otherwise turn a radius into infinity).
+template <class A>
+inline bool culling_applies(const A& a, const SphereTree& tree, const Plane* planes, std::uint32_t np) {
+    if (tree.empty()) return false;
+    const ArithBounds b = arith_bounds(a);
+    const auto& root = tree.nodes().front();
+    double m = root.cnorm + root.r;
+    for (std::uint32_t p = 0; p < np; ++p) {
+        const double nn = std::fabs(planes[p].n.x) + std::fabs(planes[p].n.y) + std::fabs(planes[p].n.z);
+        m = std::max(m, std::max(nn * (root.cnorm + root.r), double(std::fabs(planes[p].w))));
+    }
+    return std::isfinite(m) && 64 * m < b.max;
+}
+
+// group_sphere_hits() with culling: the same records, in the same (sphere)
+// order, with the same masks. `planes` are the group's records (as loaded
+// into `planes_a`): rows [0, n), columns [n, 2n). Falls back to the full
+// test when culling_applies() is false.
+template <class A>
+inline void group_sphere_hits_culled(const A& a, const Plane* planes, const PlaneA<A>* planes_a, std::uint32_t n,
+                                     std::uint64_t row_valid, std::uint64_t col_valid, const SphereSoA<A>& s,
+                                     const SphereTree& tree, std::vector<SphereHitRec>& out) {
+    if (!culling_applies(a, tree, planes, 2 * n)) {
+        group_sphere_hits(a, planes_a, n, row_valid, col_valid, s, out);
+        return;
+    }
+    out.clear();
+    const ArithBounds b = arith_bounds(a);
+    cull_detail::PlaneD pd[128];
+    for (std::uint32_t p = 0; p < 2 * n; ++p) {
+        const double nx = planes[p].n.x, ny = planes[p].n.y, nz = planes[p].n.z;
+        pd[p] = {nx, ny, nz, double(planes[p].w), std::sqrt(nx * nx + ny * ny + nz * nz) * (1 + 0x1p-50)};
+    }
+    const auto& nodes = tree.nodes();
+    // Narrow a plane mask to the planes that may hit node i.
+    auto narrow = [&](std::uint64_t mask, std::uint32_t base, const SphereTree::Node& nd) {
+        for (std::uint64_t m = mask; m; m &= m - 1) {
+            const std::uint32_t p = static_cast<std::uint32_t>(__builtin_ctzll(m));
+            if (cull_detail::plane_misses_node(pd[base + p], nd, b)) mask &= ~(std::uint64_t(1) << p);
+        }
+        return mask;
+    };
+    // Depth-first, left before right: leaves come in sphere order.
+    struct Item {
+        std::uint32_t node;
+        std::uint64_t rows, cols;
+    };
+    Item stack[64];
+    int top = 0;
+    stack[top++] = {0, row_valid, col_valid};
+    while (top > 0) {
+        const Item it = stack[--top];
+        const SphereTree::Node& nd = nodes[it.node];
+        const std::uint64_t rows = narrow(it.rows, 0, nd);
+        if (!rows) continue;
+        const std::uint64_t cols = narrow(it.cols, n, nd);
+        if (!cols) continue;
+        if (nd.right) {
+            stack[top++] = {nd.right, rows, cols};
+            stack[top++] = {it.node + 1, rows, cols};
+            continue;
+        }
+        // Leaf: the exact Eq. 1 test for the planes that may hit.
+        for (std::uint32_t i = nd.lo; i < nd.hi; ++i) {
+            const SphereA<A> sp{s.cx[i], s.cy[i], s.cz[i], s.r[i]};
+            std::uint64_t rm = 0;
+            for (std::uint64_t m = rows; m; m &= m - 1) {
+                const std::uint32_t p = static_cast<std::uint32_t>(__builtin_ctzll(m));
+                rm |= std::uint64_t(plane_hits_sphere(a, planes_a[p], sp)) << p;
+            }
+            if (!rm) continue;
+            std::uint64_t cm = 0;
+            for (std::uint64_t m = cols; m; m &= m - 1) {
+                const std::uint32_t p = static_cast<std::uint32_t>(__builtin_ctzll(m));
+                cm |= std::uint64_t(plane_hits_sphere(a, planes_a[n + p], sp)) << p;
+            }
+            if (cm) out.push_back({i, rm, cm});
+        }
+    }
+}
+
+}  // namespace raplas

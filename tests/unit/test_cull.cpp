@@ -1,0 +1,248 @@
+// Sphere culling (core/cull.hpp) gives exactly the plane-hit records of the
+// full test: seeded random sphere sets and plane pencils in every format,
+// planes tangent to a sphere within a few ulps, and every group of every
+// shared scene through the front end.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdint>
+#include <filesystem>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "raplas/core/cull.hpp"
+#include "raplas/frontend/frame.hpp"
+#include "raplas/frontend/raygroups.hpp"
+#include "raplas/frontend/tracer.hpp"
+#include "raplas/scene/scene.hpp"
+#include "raplas/util/params.hpp"
+
+namespace {
+
+using namespace raplas;
+using Rng = std::mt19937_64;
+
+double uni(Rng& rng, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
+Vec3d rvec(Rng& rng, double lo, double hi) { return {uni(rng, lo, hi), uni(rng, lo, hi), uni(rng, lo, hi)}; }
+
+bool same(const std::vector<SphereHitRec>& a, const std::vector<SphereHitRec>& b, std::string& why) {
+    if (a.size() != b.size()) {
+        why = "record counts " + std::to_string(a.size()) + " vs " + std::to_string(b.size());
+        return false;
+    }
+    for (std::size_t i = 0; i < a.size(); ++i)
+        if (a[i].sphere != b[i].sphere || a[i].rows != b[i].rows || a[i].cols != b[i].cols) {
+            why = "record " + std::to_string(i) + ": sphere " + std::to_string(a[i].sphere) + " vs " +
+                  std::to_string(b[i].sphere);
+            return false;
+        }
+    return true;
+}
+
+// A pencil of n row planes and n column planes through `eye`, as a camera's
+// ray-planes: row planes contain the eye's x axis, column planes its y axis.
+std::vector<Plane> pencil(Rng& rng, Vec3d eye, std::uint32_t n, double spread) {
+    const Vec3d fwd = normalize(rvec(rng, -1, 1)), side = normalize(cross(fwd, Vec3d{0.1, 1, 0.2}));
+    const Vec3d up = cross(side, fwd);
+    std::vector<Plane> planes(2 * n);
+    const double a0 = uni(rng, -spread, spread), a1 = uni(rng, -spread, spread);
+    for (std::uint32_t i = 0; i < 2 * n; ++i) {
+        const double ang = (i < n ? a0 : a1) + spread * (double(i % n) / n - 0.5);
+        // row plane normal turns around `side`, column plane normal around `up`
+        const Vec3d nrm = i < n ? normalize(up * std::cos(ang) - fwd * std::sin(ang))
+                                : normalize(side * std::cos(ang) - fwd * std::sin(ang));
+        planes[i].n = to_f(nrm);
+        planes[i].w = float(-dot(to_d(planes[i].n), eye));
+    }
+    return planes;
+}
+
+template <class A>
+struct Checker {
+    A a;
+    std::uint64_t groups = 0, records = 0, culled_groups = 0;
+
+    void run(const std::vector<Sphere>& spheres, const std::vector<Plane>& planes, std::uint32_t n,
+             std::uint64_t row_valid, std::uint64_t col_valid, const std::string& what) {
+        SphereSoA<A> soa;
+        for (const auto& s : spheres) soa.push_back(load(a, s));
+        std::vector<PlaneA<A>> pa;
+        for (const auto& p : planes) pa.push_back(load(a, p));
+        const SphereTree tree(spheres);
+        std::vector<SphereHitRec> full, culled;
+        group_sphere_hits(a, pa.data(), n, row_valid, col_valid, soa, full);
+        group_sphere_hits_culled(a, planes.data(), pa.data(), n, row_valid, col_valid, soa, tree, culled);
+        std::string why;
+        EXPECT_TRUE(same(full, culled, why)) << what << ": " << why;
+        ++groups;
+        records += full.size();
+        culled_groups += culling_applies(a, tree, planes.data(), 2 * n);
+    }
+};
+
+template <class A>
+void random_sets(Checker<A>& c, const std::string& fmt) {
+    Rng rng(424242);
+    for (int si = 0; si < 40; ++si) {
+        // clusters of spheres at scales from 1e-6 to 1e7, near or far from the origin
+        const double scale = std::pow(10.0, uni(rng, -6, 7));
+        const Vec3d centre = (si % 3 == 0) ? rvec(rng, -1, 1) * (scale * 1000) : rvec(rng, -scale, scale);
+        std::vector<Sphere> spheres;
+        const int count = 1 + int(uni(rng, 0, 300));
+        Vec3d p = centre;
+        for (int i = 0; i < count; ++i) {
+            p = p + rvec(rng, -0.05, 0.05) * scale;  // a coherent walk, as median-split order is
+            Sphere s;
+            s.c = to_f(p);
+            s.r = float(scale * std::pow(10.0, uni(rng, -3, -0.5)));
+            spheres.push_back(s);
+        }
+        const std::uint32_t n = std::uint32_t(1 + uni(rng, 0, 64));
+        const std::uint64_t all = n == 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << n) - 1;
+        for (int g = 0; g < 6; ++g) {
+            const Vec3d eye = g % 2 ? centre + rvec(rng, -2, 2) * scale : to_d(spheres[rng() % spheres.size()].c);
+            const auto planes = pencil(rng, eye, n, uni(rng, 0.001, 1.2));
+            const std::uint64_t rv = g == 5 ? all & rng() : all, cv = g == 4 ? all & rng() : all;
+            c.run(spheres, planes, n, rv, cv, fmt + " set " + std::to_string(si) + " group " + std::to_string(g));
+        }
+    }
+}
+
+// Planes tangent to a sphere that is a leaf of its own (the ninth of nine:
+// its node sphere is the sphere itself), moved by -4..+4 ulps of w: the
+// closest a plane can come to the culling bound.
+template <class A>
+void tangent_planes(Checker<A>& c, const std::string& fmt) {
+    Rng rng(99);
+    for (int k = 0; k < 200; ++k) {
+        const double scale = std::pow(10.0, uni(rng, -5, 6));
+        std::vector<Sphere> spheres;
+        for (int i = 0; i < 9; ++i) {
+            Sphere s;
+            s.c = to_f(rvec(rng, -1, 1) * scale + Vec3d{3, -2, 1} * (k % 2 ? scale * 100 : 0));
+            s.r = float(scale * uni(rng, 0.01, 0.3));
+            spheres.push_back(s);
+        }
+        const Sphere& t = spheres[8];
+        std::vector<Plane> planes(2);
+        for (auto& pl : planes) {
+            pl.n = to_f(normalize(rvec(rng, -1, 1)));
+            const double side = (rng() & 1) ? 1.0 : -1.0;
+            float w = float(-dot(to_d(pl.n), to_d(t.c)) + side * double(t.r));
+            const int steps = int(rng() % 9) - 4;
+            for (int s = 0; s < std::abs(steps); ++s) w = std::nextafter(w, steps > 0 ? HUGE_VALF : -HUGE_VALF);
+            pl.w = w;
+        }
+        // with a through-the-centre plane sometimes as the column plane
+        if (k % 3 == 0) planes[1].w = float(-dot(to_d(planes[1].n), to_d(t.c)));
+        c.run(spheres, planes, 1, 1, 1, fmt + " tangent " + std::to_string(k));
+    }
+}
+
+template <class A>
+void all_cases(A a, const std::string& fmt, bool expect_culling = true) {
+    Checker<A> c{a};
+    random_sets(c, fmt);
+    tangent_planes(c, fmt);
+    EXPECT_GT(c.records, 1000u) << fmt << ": the planes hit spheres";
+    if (expect_culling)
+        EXPECT_GT(c.culled_groups, c.groups * 3 / 4) << fmt << ": the culling path was taken";
+}
+
+TEST(SphereCulling, SameRecordsAsTheFullTestFloat32) { all_cases(ArithF32{}, "float32"); }
+TEST(SphereCulling, SameRecordsAsTheFullTestFloat64) { all_cases(ArithF64{}, "float64"); }
+TEST(SphereCulling, SameRecordsAsTheFullTestReducedFormats) {
+    for (const char* f : {"fp1-8-15", "fp1-7-16-rtz", "fp1-6-17-ftz", "fp1-8-10-rtz-ftz"})
+        all_cases(ArithSoft{NumFormat::parse(f), true}, f);
+    // without post-normalisation in the adder (the paper's PSI)
+    all_cases(ArithSoft{NumFormat::parse("fp1-8-15"), false}, "fp1-8-15 unnormalised");
+    // a format whose range the scenes exceed: culling must step aside
+    all_cases(ArithSoft{NumFormat::parse("fp1-5-10"), true}, "fp1-5-10", false);
+}
+
+TEST(SphereCulling, TreeNodesEncloseTheirSpheresInSphereOrder) {
+    Rng rng(3);
+    std::vector<Sphere> spheres(1000);
+    for (auto& s : spheres) {
+        s.c = to_f(rvec(rng, -10, 10));
+        s.r = float(uni(rng, 0.01, 2));
+    }
+    const SphereTree tree(spheres);
+    std::uint32_t next_leaf_start = 0;
+    for (std::size_t i = 0; i < tree.nodes().size(); ++i) {
+        const auto& nd = tree.nodes()[i];
+        for (std::uint32_t k = nd.lo; k < nd.hi; ++k) {
+            const Vec3d d = to_d(spheres[k].c) - Vec3d{nd.cx, nd.cy, nd.cz};
+            EXPECT_LE(length(d) + spheres[k].r, nd.r) << "node " << i << " sphere " << k;
+        }
+        if (nd.right == 0) {  // leaves in pre-order cover the spheres in order
+            EXPECT_EQ(nd.lo, next_leaf_start);
+            EXPECT_LE(nd.hi - nd.lo, SphereTree::kLeaf);
+            next_leaf_start = nd.hi;
+        } else {
+            EXPECT_EQ(tree.nodes()[i + 1].lo, nd.lo);
+            EXPECT_EQ(tree.nodes()[nd.right].hi, nd.hi);
+        }
+    }
+    EXPECT_EQ(next_leaf_start, 1000u);
+}
+
+// Groups of every shared scene (at 32 x 32 pixels, the scene's group sizes):
+// the culled front end's records and hits equal the full test's.
+// Skipped scenes are those whose mesh is not present.
+TEST(SphereCulling, EverySharedSceneSameRecordsAndHits) {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::path(RAPLAS_SOURCE_DIR) / "scenes";
+    int scenes = 0;
+    for (const char* name : {"bunny", "bunny_small", "conference", "sportscar", "cornell", "teapot"}) {
+        ParamSet p = scene_params();
+        p.load_file((dir / (std::string(name) + ".toml")).string());
+        p.set("image.width=32");
+        p.set("image.height=32");
+        Scene s;
+        try {
+            s = scene_from_params(p, "");
+        } catch (const std::exception& e) {
+            std::printf("  %s skipped: %s\n", name, e.what());
+            continue;
+        }
+        ++scenes;
+        for (const char* fmt : {"float32", "fp1-8-15"}) {
+            if (std::string(fmt) != "float32" && s.mesh.triangle_count() > 5000) continue;  // time
+            const auto t0 = std::chrono::steady_clock::now();
+            FrameOptions fo;
+            fo.format = NumFormat::parse(fmt);
+            fo.record = true;
+            fo.threads = 2;
+            const Frame f = render_frame(s, fo);
+            const Tracer full(f.spheres, fo.format, false);
+            std::size_t groups = 0, records = 0;
+            auto check = [&](const RayGroup& g, const GroupResult& got, const char* kind, std::size_t i) {
+                GroupResult want;
+                full.trace(g, want, true, false);
+                std::string why;
+                ASSERT_TRUE(same(want.sphere_list, got.sphere_list, why))
+                    << name << " " << fmt << " " << kind << " group " << i << ": " << why;
+                ASSERT_EQ(want.hits, got.hits) << name << " " << fmt << " " << kind << " group " << i;
+                ASSERT_EQ(want.counts.rt_tests, got.counts.rt_tests);
+                ++groups;
+                records += want.sphere_list.size();
+            };
+            // every primary group and an even sample of the shadow groups (the
+            // full test of every group of a frame is tools/check_culling.sh)
+            for (std::size_t i = 0; i < f.primary.size(); ++i) check(f.primary[i], f.primary_results[i], "primary", i);
+            const std::size_t step = f.shadow.size() / 24 + 1;
+            for (std::size_t i = step / 2; i < f.shadow.size(); i += step)
+                check(f.shadow[i], f.shadow_results[i], "shadow", i);
+            EXPECT_GT(records, groups) << name << " " << fmt;
+            std::printf("  %s %s: %zu groups, %zu records, %.1f s\n", name, fmt, groups, records,
+                        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        }
+    }
+    std::printf("  %d shared scenes checked\n", scenes);
+}
+
+}  // namespace
