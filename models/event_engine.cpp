@@ -19,7 +19,10 @@
 //     triangles, and while its Triangle FIFO is full. When none of that
 //     happens and the shared pipeline streams steadily (a sphere in and a
 //     decision out every cycle), nothing but the stream positions changes
-//     until the next such event: those cycles are skipped in one step.
+//     until the next such event: those cycles are skipped in one step. The
+//     same holds once every sphere is decided (only the triangle stream
+//     moves), and while full Triangle FIFOs hold the triangle stream
+//     (nothing changes until the first of them is popped).
 // The equivalence with the cycle-by-cycle mode is checked in CI on a grid of
 // scenes, ICC counts, FIFO depths and policies (tests/equivalence_modes.py).
 #include <algorithm>
@@ -164,23 +167,61 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p) {
         const bool t_has = triangle_link.has_record() && cycle >= cfg_.triangle_lag_cycles;
         const std::uint32_t ts = t_has ? triangle_memory.sphere_of(tp) : 0;
 
-        // ---- skip steady streaming -------------------------------------
-        if (individuals.empty() && selecting.empty() && full_now.empty() && n_ref > 0 && s_has && t_has &&
-            rp.batches() == 1 && rp.in_flight() == stages && rp.has_output() && !rf.empty() && !rf.full() &&
-            rd.decided() > ts) {
-            const std::uint32_t xf = rp.output().sphere;  // decided now; then xf+1, xf+2, ... one per cycle
-            std::uint64_t d = std::min<std::uint64_t>(sphere_link.end() - sp, triangle_link.end() - tp);
-            if (hpos < hits.size()) d = std::min<std::uint64_t>(d, hits[hpos].sphere - xf);
-            if (!waiting.empty()) d = std::min<std::uint64_t>(d, waiting.top().first - tp);
-            if (d > 1) {
+        auto tri_blocker = [&](std::uint32_t k) {  // ICC k's Triangle FIFO stops this triangle
+            return is_full[k] && (any_full || TriangleSelector::wants(ts, active[k]->first_tri_fifo));
+        };
+
+        // ---- skip cycles in which only stream positions change -----------
+        // The sphere side either streams steadily (a sphere in and a decision
+        // out every cycle, every ICC on the shared pipeline) or is finished
+        // (every sphere decided, nothing in flight, in every ICC). The triangle stream either flows (no ICC selecting, no
+        // full Triangle FIFO) up to the next waiting ICC's triangles, or is
+        // held by full Triangle FIFOs until the first of them is popped.
+        if (t_has && (n_ref == 0 || rd.decided() > ts)) {
+            const bool s_steady = individuals.empty() && n_ref > 0 && s_has && rp.batches() == 1 &&
+                                  rp.in_flight() == stages && rp.has_output() && !rf.empty() && !rf.full();
+            bool s_done = !s_has && rf.empty() && rp.in_flight() == 0;
+            for (std::uint32_t k : individuals) {
+                const Icc& c = *active[k];
+                s_done = s_done && c.sphere_fifo.empty() && c.psi.in_flight() == 0 && c.decoder.decided() > ts;
+            }
+            const bool t_flows = full_now.empty() && selecting.empty();
+            bool t_held = false;
+            std::uint64_t d = 0;
+            if (t_flows) {
+                d = triangle_link.end() - tp;
+                if (!waiting.empty()) d = std::min<std::uint64_t>(d, waiting.top().first - tp);
+            } else if (!full_now.empty()) {
+                for (std::uint32_t k : full_now) t_held = t_held || tri_blocker(k);
+                std::uint64_t popped = ~std::uint64_t(0);
+                for (const auto& f : full_until) popped = std::min(popped, f.second);
+                if (t_held && popped > cycle) d = popped - cycle;
+            }
+            if (s_steady) {
+                d = std::min<std::uint64_t>(d, sphere_link.end() - sp);
+                if (hpos < hits.size()) d = std::min<std::uint64_t>(d, hits[hpos].sphere - rp.output().sphere);
+            }
+            if ((t_flows || t_held) && (s_steady || s_done) && d > 1) {
                 --d;  // the event cycle itself is stepped normally
-                sphere_memory.read_many(d);
-                sphere_link.sent_many(d);
-                triangle_memory.read_many(d);
-                triangle_link.sent_many(d);
-                rp.fast_forward(d, rf.front());
-                rf.advance(std::uint32_t(d));
-                rd.set_decided(rd.decided() + std::uint32_t(d));
+                if (s_steady) {
+                    sphere_memory.read_many(d);
+                    sphere_link.sent_many(d);
+                    rp.fast_forward(d, rf.front());
+                    rf.advance(std::uint32_t(d));
+                    rd.set_decided(rd.decided() + std::uint32_t(d));
+                } else {
+                    sphere_link.idle(d);
+                    rp.idle(d);
+                    for (std::uint32_t k : individuals) active[k]->psi.idle(d);
+                }
+                if (t_flows) {
+                    triangle_memory.read_many(d);
+                    triangle_link.sent_many(d);
+                } else {
+                    triangle_link.stalled(d);
+                    for (std::uint32_t k : full_now)
+                        if (tri_blocker(k)) active[k]->triangle_selector.note_blocked_full(active[k]->triangle_fifo, d);
+                }
                 cycle += d;
                 since_sync_ += d;
                 if (since_sync_ >= cfg_.sync_cycles) {
@@ -192,9 +233,6 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p) {
         }
 
         // ---- link decisions (state at the start of the cycle) -----------
-        auto tri_blocker = [&](std::uint32_t k) {  // ICC k's Triangle FIFO stops this triangle
-            return is_full[k] && (any_full || TriangleSelector::wants(ts, active[k]->first_tri_fifo));
-        };
         bool s_ok = s_has, t_ok = t_has;
         if (n_ref) {
             s_ok = s_ok && !rf.full();

@@ -51,7 +51,7 @@ public:
         head_ = 0;
         count_ = 0;
     }
-    void note_full() { ++stats_.full_cycles; }
+    void note_full(std::uint64_t cycles = 1) { stats_.full_cycles += cycles; }
     // Event-driven simulation keeps the contents elsewhere and records here:
     // a push leaving `occupancy` entries.
     void record_push(std::uint32_t occupancy) {

@@ -119,6 +119,9 @@ public:
         group_spheres_ += n;
     }
 
+    // n cycles with nothing in flight and nothing to take (event-driven simulation).
+    void idle(std::uint64_t n) { t_ += n; }
+
     // One clock cycle, after the Decoder has looked at the output.
     void tick(SphereFifo& in, bool stalled, bool spheres_pending) {
         if (stalled) {

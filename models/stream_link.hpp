@@ -38,7 +38,7 @@ public:
         ++stats_.records_sent;
         stats_.bytes += params_.record_bytes;
     }
-    void stalled() { ++stats_.stall_cycles; }
+    void stalled(std::uint64_t cycles = 1) { stats_.stall_cycles += cycles; }
     void idle(std::uint64_t cycles = 1) { stats_.idle_cycles += cycles; }
     // Bulk advance used by the event-skipping driver: n records sent back to back.
     void sent_many(std::uint64_t n) {

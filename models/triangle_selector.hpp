@@ -73,9 +73,9 @@ public:
         }
         return p;
     }
-    void note_blocked_full(Fifo<TriWork>& tri_fifo) {
-        ++stats_.blocked_fifo_full;
-        tri_fifo.note_full();
+    void note_blocked_full(Fifo<TriWork>& tri_fifo, std::uint64_t cycles = 1) {
+        stats_.blocked_fifo_full += cycles;
+        tri_fifo.note_full(cycles);
     }
     // End of a pass in which `received` triangles passed this ICC.
     void end_group(std::uint64_t received, std::uint64_t selected_before) {
