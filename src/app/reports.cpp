@@ -39,6 +39,7 @@ std::string render_json(const RenderReport& r) {
                    {"primary_ray_groups", f.primary.size()},
                    {"shadow_ray_groups", f.shadow_group_count},
                    {"hit_pixels", hit_pixels},
+                   {"facing_away_skipped", f.facing_away},
                    {"plane_sphere_tests", total.plane_tests},
                    {"sphere_hits", total.sphere_hits},
                    {"ray_triangle_tests", total.rt_tests},

@@ -33,6 +33,24 @@ Vec3f shadow_origin(const Scene& scene, const SphereSet& s, const Ray& r, const 
     return to_f(x + nrm * (scene.shadow_offset * diag));
 }
 
+bool faces_away_from_light(const Scene& scene, const SphereSet& s, const Ray& r, const Hit& h) {
+    const TriangleRec& tr = s.triangles[static_cast<std::size_t>(h.tri)];
+    Vec3d nrm = normalize(to_d(tr.n));
+    if (dot(nrm, to_d(r.d)) > 0) nrm = -nrm;  // the side the primary ray came from
+    const Vec3d o = to_d(shadow_origin(scene, s, r, h));
+    const AreaLight& l = scene.light;
+    const Vec3d corners[4] = {l.corner, l.corner + l.edge_u, l.corner + l.edge_v, l.corner + l.edge_u + l.edge_v};
+    // Every light sample is a convex combination of the corners. The margin
+    // (1e-5 of the farthest corner's distance) keeps the sample directions as
+    // traced, rounded to float, strictly behind the surface: the shading's
+    // cosine is negative for every one of them.
+    double far = 0;
+    for (const Vec3d& c : corners) far = std::max(far, length(c - o));
+    for (const Vec3d& c : corners)
+        if (!(dot(nrm, c - o) < -1e-5 * far)) return false;
+    return true;
+}
+
 Frame render_frame(const Scene& scene, const FrameOptions& opt) {
     using clock = std::chrono::steady_clock;
     const unsigned threads = opt.threads ? opt.threads : default_threads();
@@ -77,16 +95,25 @@ Frame render_frame(const Scene& scene, const FrameOptions& opt) {
     if (!opt.record) f.primary_results.clear();
     f.times.primary_s = seconds_since(t0);
 
-    // Shadow groups: one per pixel whose primary ray hits, in pixel order.
+    // Shadow groups: one per pixel whose primary ray hits, in pixel order
+    // (pixels that hit nothing need none), except, when asked, for hit points
+    // that face away from the whole light: no sample can light them.
     t0 = clock::now();
+    f.visibility.assign(npix, -1.0f);
     std::vector<std::size_t> lit_pixels;
-    for (std::size_t px = 0; px < npix; ++px)
-        if (f.pixel_hit[px].tri >= 0) lit_pixels.push_back(px);
+    for (std::size_t px = 0; px < npix; ++px) {
+        if (f.pixel_hit[px].tri < 0) continue;
+        if (scene.skip_facing_away && faces_away_from_light(scene, f.spheres, f.pixel_ray[px], f.pixel_hit[px])) {
+            f.visibility[px] = 0.0f;
+            ++f.facing_away;
+            continue;
+        }
+        lit_pixels.push_back(px);
+    }
     f.shadow_group_count = lit_pixels.size();
     std::vector<RayGroup> shadow(lit_pixels.size());
     std::vector<GroupResult> shadow_res(lit_pixels.size());
     std::vector<GroupCounts> counts(lit_pixels.size());
-    f.visibility.assign(npix, -1.0f);
     std::vector<float> direct(npix, 0.0f);
     const Vec3d light_n = scene.light.normal();
     parallel_for(lit_pixels.size(), threads, [&](std::size_t i) {

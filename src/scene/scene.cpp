@@ -37,6 +37,9 @@ ParamSet scene_params() {
     p.add_real("shading.ambient", 0.15, 0.0, 1.0, "ambient term of the Lambert shading");
     p.add_real("shading.shadow_offset", 1e-4, 0.0, 0.1,
                "shadow ray origin offset along the normal, as a fraction of the scene diagonal");
+    p.add_bool("shading.skip_facing_away", false,
+               "issue no shadow group for a hit point whose surface faces away from the whole light "
+               "(its direct term is zero whatever the shadow rays find; the image does not change)");
     return p;
 }
 
@@ -202,6 +205,7 @@ Scene scene_from_params(const ParamSet& p, const std::string& mesh_override) {
     s.sphere_method = p.get_string("spheres.method");
     s.ambient = p.get_real("shading.ambient");
     s.shadow_offset = p.get_real("shading.shadow_offset");
+    s.skip_facing_away = p.get_bool("shading.skip_facing_away");
     return s;
 }
 

@@ -32,7 +32,9 @@ struct Frame {
     std::vector<GroupResult> shadow_results;  // kept when recording
     std::vector<Ray> pixel_ray;              // W*H primary rays as traced
     std::vector<Hit> pixel_hit;              // W*H nearest hits (tri = Triangle Memory index)
-    std::vector<float> visibility;           // W*H: unoccluded fraction of light samples (-1: no hit)
+    std::vector<float> visibility;           // W*H: unoccluded fraction of light samples (-1: no hit; 0 also
+                                             // for hit points facing away from the light when those are skipped)
+    std::size_t facing_away = 0;             // hit points given no shadow group (Scene::skip_facing_away)
     std::vector<float> rgb;                  // W*H*3 linear radiance
     std::vector<std::uint64_t> work_rt;      // W*H ray-triangle tests (primary ray + its shadow group)
     std::vector<std::uint64_t> work_spheres;  // W*H sphere hits (same)
@@ -48,5 +50,8 @@ double scene_extent(const Scene& scene);
 // Shadow ray origin for a primary hit: the hit point, offset along the
 // normal toward the side the primary ray came from.
 Vec3f shadow_origin(const Scene& scene, const SphereSet& s, const Ray& r, const Hit& h);
+// The hit point's surface (the side the ray came from) faces away from every
+// point of the area light, with a margin: no shadow ray of it can light it.
+bool faces_away_from_light(const Scene& scene, const SphereSet& s, const Ray& r, const Hit& h);
 
 }  // namespace raplas

@@ -39,6 +39,7 @@ struct Scene {
     std::string sphere_method = "median-split";
     double ambient = 0.15;
     double shadow_offset = 1e-4;  // shadow ray origin offset, fraction of the scene's diagonal
+    bool skip_facing_away = false;  // no shadow group for hit points facing away from the whole light
     double diagonal = 0;          // of the mesh's bounding box (0: not computed yet)
 };
 
