@@ -105,7 +105,7 @@ int cmd_simulate(const SimulateArgs& a) {
         fo.cull = !so.no_cull;
         fo.record = true;
         Frame frame = render_frame(scene, fo);
-        trace = make_trace(scene, frame, cfg.format);
+        trace = make_trace(scene, std::move(frame), cfg.format);
         scene_name = scene.name;
     }
     const double frontend_s = std::chrono::duration<double>(clock::now() - t0).count();

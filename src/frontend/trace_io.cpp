@@ -4,6 +4,7 @@
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <type_traits>
 
 #include "raplas/util/atomic_file.hpp"
 #include "raplas/util/error.hpp"
@@ -86,7 +87,12 @@ GroupCounts Trace::total_counts() const {
     return c;
 }
 
-Trace make_trace(const Scene& scene, const Frame& f, const NumFormat& format) {
+namespace {
+
+// From a non-const frame, each group's records and hits are moved out and
+// the group's memory freed as it goes.
+template <class FrameRef>
+Trace make_trace_impl(const Scene& scene, FrameRef& f, const NumFormat& format) {
     Trace t;
     t.scene_name = scene.name;
     t.format = format;
@@ -101,7 +107,8 @@ Trace make_trace(const Scene& scene, const Frame& f, const NumFormat& format) {
     t.triangles = f.spheres.triangles;
     t.tri_mesh_index = f.spheres.tri_mesh_index;
     t.primary_groups = std::uint32_t(f.primary.size());
-    auto add = [&](const RayGroup& g, const GroupResult& r) {
+    t.groups.reserve(f.primary.size() + f.shadow.size());
+    auto add = [&](auto& g, auto& r) {
         TraceGroup tg;
         tg.kind = g.kind;
         tg.n = g.n;
@@ -115,13 +122,34 @@ Trace make_trace(const Scene& scene, const Frame& f, const NumFormat& format) {
         tg.dirs.resize(std::size_t(g.n) * g.n);
         for (std::uint32_t v = 0; v < g.n; ++v)
             for (std::uint32_t h = 0; h < g.n; ++h) tg.dirs[v * g.n + h] = group_ray(g, h, v).d;
-        tg.sphere_hits = r.sphere_list;
         tg.counts = r.counts;
-        tg.hits = r.hits;
+        if constexpr (std::is_const_v<std::remove_reference_t<decltype(r)>>) {
+            tg.sphere_hits = r.sphere_list;
+            tg.hits = r.hits;
+        } else {
+            tg.sphere_hits = std::move(r.sphere_list);
+            tg.hits = std::move(r.hits);
+            r = GroupResult{};
+            g.planes = std::vector<Plane>{};
+        }
         t.groups.push_back(std::move(tg));
     };
     for (std::size_t i = 0; i < f.primary.size(); ++i) add(f.primary[i], f.primary_results.at(i));
     for (std::size_t i = 0; i < f.shadow.size(); ++i) add(f.shadow[i], f.shadow_results.at(i));
+    return t;
+}
+
+}  // namespace
+
+Trace make_trace(const Scene& scene, const Frame& f, const NumFormat& format) {
+    return make_trace_impl(scene, f, format);
+}
+
+Trace make_trace(const Scene& scene, Frame&& f, const NumFormat& format) {
+    Trace t = make_trace_impl(scene, f, format);
+    f.primary_results = {};
+    f.shadow_results = {};
+    f.shadow = {};
     return t;
 }
 
