@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# Measures the simulation-speed targets of docs/PERFORMANCE.md, one after the
+# other, and prints one line per figure with the load average around it:
+#   1. the paper's full sweep (bunny, sportscar, conference x ICCs 1/4/16/32/48
+#      x FIFO 10/100/1000, 64x64, 16x16 shadow groups), front end included,
+#      event mode with the trace functional mode (cycle counts identical to
+#      the cycle-by-cycle mode), --jobs = cores;
+#   2. ICC-cycles per second of the timing model, conference and bunny at 48
+#      ICCs, FIFO 1000, event mode, both functional modes;
+#   3. (--big) conference at 256 ICCs and 512x512 pixels: wall time and peak
+#      memory (/usr/bin/time -v), about 15 minutes on 2 cores.
+# The front end against Embree is bench/bench_frontend.cpp (see PERFORMANCE.md).
+#   bench/speed_targets.sh [--big] [build/raplas]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+big=0
+raplas=build/raplas
+for a in "$@"; do
+  case $a in
+    --big) big=1 ;;
+    *) raplas=$a ;;
+  esac
+done
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+load() { cut -d' ' -f1 /proc/loadavg; }
+json() { python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print($2)" "$1"; }
+
+echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs)"
+
+# 1. full paper sweep
+l0=$(load)
+start=$(date +%s.%N)
+"$raplas" sweep --scene scenes/bunny.toml --scene scenes/sportscar.toml --scene scenes/conference.toml \
+  --config paper --iccs 1,4,16,32,48 --fifo 10,100,1000 --set sim.functional=trace \
+  --out "$work/paper.csv" >/dev/null 2>&1
+end=$(date +%s.%N)
+echo "paper sweep (45 points, front end included): $(python3 -c "print(f'{$end - $start:.1f}')") s wall" \
+     "(load $l0 before, $(load) after)"
+
+# 2. timing model speed at 48 ICCs
+for scene in bunny conference; do
+  "$raplas" trace --scene scenes/$scene.toml --out "$work/$scene.trace" -q
+  for fm in trace compute; do
+    best=0
+    for rep in 1 2 3; do
+      "$raplas" simulate --trace "$work/$scene.trace" --config paper --iccs 48 --fifo 1000 \
+        --set sim.functional=$fm --json "$work/s.json" -q
+      v=$(json "$work/s.json" "d['wall']['sim_icc_cycles_per_second']")
+      best=$(python3 -c "print(max($best, $v))")
+    done
+    echo "$scene 48 ICCs FIFO 1000 event/$fm: $(python3 -c "print(f'{$best:.3g}')") ICC-cycles/s" \
+         "(best of 3, load $(load))"
+  done
+done
+
+# 3. conference at 256 ICCs, 512 x 512
+if [[ $big == 1 ]]; then
+  l0=$(load)
+  /usr/bin/time -v "$raplas" simulate --scene scenes/conference.toml --set image.width=512 \
+    --set image.height=512 --config paper --iccs 256 --fifo 1000 --set sim.functional=trace \
+    --json "$work/big.json" -q 2>"$work/time.txt"
+  rss=$(awk -F: '/Maximum resident/ {print $2}' "$work/time.txt" | xargs)
+  wall=$(awk -F': ' '/Elapsed/ {print $2}' "$work/time.txt")
+  echo "conference 512x512, 256 ICCs: $(json "$work/big.json" "d['total_cycles']") cycles," \
+       "$wall wall, peak RSS $(python3 -c "print(f'{$rss / 1048576:.2f}')") GiB (load $l0 before, $(load) after)"
+fi
