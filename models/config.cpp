@@ -44,6 +44,13 @@ ParamSet machine_params() {
                  "cycle = step every block every clock cycle; event = exact event-driven stepping that skips "
                  "what cannot change (same cycle counts and statistics; --vcd forces cycle)",
                  {"cycle", "event"});
+    p.add_string("sim.estimate", std::string("exact"),
+                 "exact = simulate every pass; sample_passes = simulate every primary pass and a systematic "
+                 "sample of the shadow passes and extrapolate total cycles, with a 95 % confidence half-width "
+                 "(the other statistics then cover the simulated passes only)",
+                 {"exact", "sample_passes"});
+    p.add_real("sim.sample_fraction", 0.1, 1e-6, 1.0, "sample_passes: fraction of the shadow passes simulated (at least 2)");
+    p.add_int("sim.sample_seed", 1, 0, 1000000000, "sample_passes: picks the offset of the systematic sample");
     p.add_int("sim.sync_cycles", 4096, 1, 1000000000, "cycles simulated between SystemC time updates (1 with --vcd)");
     p.add_int("sim.watchdog_cycles", 1000000, 1, 1000000000000,
               "stop with an error when nothing moves for this many cycles");
@@ -80,6 +87,9 @@ SimConfig config_from_params(const ParamSet& p) {
     c.cull = p.get_bool("sim.cull");
     c.mode = p.get_string("sim.mode") == "event" ? SimMode::event : SimMode::cycle;
     c.sync_cycles = std::uint64_t(p.get_int("sim.sync_cycles"));
+    c.estimate = p.get_string("sim.estimate") == "sample_passes" ? Estimate::sample_passes : Estimate::exact;
+    c.sample_fraction = p.get_real("sim.sample_fraction");
+    c.sample_seed = std::uint64_t(p.get_int("sim.sample_seed"));
     c.watchdog_cycles = std::uint64_t(p.get_int("sim.watchdog_cycles"));
     return c;
 }

@@ -10,6 +10,7 @@
 namespace raplas::model {
 
 enum class SimMode { cycle, event };
+enum class Estimate { exact, sample_passes };
 
 struct SimConfig {
     std::uint32_t iccs = 1;
@@ -26,6 +27,12 @@ struct SimConfig {
     SimMode mode = SimMode::event;
     std::uint64_t sync_cycles = 4096;      // cycles simulated between kernel time updates
     std::uint64_t watchdog_cycles = 1000000;
+    // sample_passes: simulate every primary pass and a systematic sample of
+    // the shadow passes, extrapolate the shadow passes' cycles (passes are
+    // independent: each starts from empty FIFOs and record 0).
+    Estimate estimate = Estimate::exact;
+    double sample_fraction = 0.1;
+    std::uint64_t sample_seed = 1;
 };
 
 ParamSet machine_params();

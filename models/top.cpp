@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -241,11 +242,56 @@ void Top::preload(const Host::Pass& p) {
     parallel_for(n, default_threads(), [&](std::size_t k) { iccs[k].preload(&trace_.groups[p.begin + k]); });
 }
 
+std::vector<std::uint32_t> Top::choose_passes(const std::vector<Host::Pass>& passes) const {
+    std::vector<std::uint32_t> all(passes.size());
+    for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+    if (cfg_.estimate == Estimate::exact) return all;
+    std::vector<std::uint32_t> chosen, shadow;
+    for (std::uint32_t i = 0; i < all.size(); ++i) (passes[i].primary ? chosen : shadow).push_back(i);
+    const std::size_t ns = shadow.size();
+    const std::size_t n = std::min<std::size_t>(ns, std::max<std::size_t>(2, std::size_t(std::ceil(cfg_.sample_fraction * double(ns)))));
+    if (n == ns) return all;
+    // Systematic sample: one pass in each of n equal strata of the shadow
+    // passes, at the same offset in every stratum (from the seed).
+    std::uint64_t x = cfg_.sample_seed * 0x9E3779B97F4A7C15ull + 0x632BE59BD9B4E019ull;
+    x ^= x >> 31;
+    x *= 0xBF58476D1CE4E5B9ull;
+    x ^= x >> 29;
+    const double u = double(x >> 11) * 0x1p-53, step = double(ns) / double(n);
+    for (std::size_t j = 0; j < n; ++j)
+        chosen.push_back(shadow[std::min(ns - 1, std::size_t((double(j) + u) * step))]);
+    return chosen;
+}
+
+void Top::extrapolate(const std::vector<Host::Pass>& passes) {
+    // Primary passes are all simulated; the shadow total is N times the mean
+    // of the n sampled shadow passes, with the finite-population standard
+    // error N s / sqrt(n) sqrt(1 - n/N).
+    std::uint64_t primary = 0;
+    std::vector<double> sample;
+    for (std::size_t k = 0; k < result_.pass_index.size(); ++k)
+        if (passes[result_.pass_index[k]].primary)
+            primary += result_.pass_cycles[k];
+        else
+            sample.push_back(double(result_.pass_cycles[k]));
+    double ns = 0;
+    for (const auto& p : passes) ns += !p.primary;
+    const double n = double(sample.size());
+    double mean = 0, var = 0;
+    for (double c : sample) mean += c / n;
+    for (double c : sample) var += (c - mean) * (c - mean) / (n - 1);
+    result_.total_cycles = primary + std::uint64_t(std::llround(ns * mean));
+    result_.estimate_ci95 = 1.96 * ns * std::sqrt(var / n) * std::sqrt(std::max(0.0, 1 - n / ns));
+    result_.estimated = true;
+}
+
 void Top::run() {
     try {
         const auto passes = host.plan(trace_.primary_groups, std::uint32_t(trace_.groups.size()));
+        const std::vector<std::uint32_t> chosen = choose_passes(passes);
         std::uint64_t total = 0;
-        for (std::size_t i = 0; i < passes.size(); ++i) {
+        for (std::size_t ci = 0; ci < chosen.size(); ++ci) {
+            const std::size_t i = chosen[ci];
             if (vcd_) vcd_->pass = std::uint32_t(i);
             preload(passes[i]);
             std::uint64_t c = event_mode_ ? run_pass_event(passes[i]) : run_pass(passes[i]);
@@ -253,12 +299,14 @@ void Top::run() {
             check_pass(passes[i]);
             c += cfg_.pass_overhead_cycles;
             result_.pass_cycles.push_back(c);
+            result_.pass_index.push_back(std::uint32_t(i));
             total += c;
-            if (opt_.progress) opt_.progress(i + 1, passes.size(), total);
+            if (opt_.progress) opt_.progress(ci + 1, chosen.size(), total);
         }
         if (since_sync_) wait(period_ * double(since_sync_));
-        if (cfg_.pass_overhead_cycles) wait(period_ * double(cfg_.pass_overhead_cycles * passes.size()));
+        if (cfg_.pass_overhead_cycles) wait(period_ * double(cfg_.pass_overhead_cycles * chosen.size()));
         result_.total_cycles = total;
+        if (chosen.size() < passes.size()) extrapolate(passes);
     } catch (const std::exception& e) {
         error_ = e.what();
     }

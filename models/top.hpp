@@ -30,8 +30,11 @@ struct IccSnapshot {
 };
 
 struct SimResult {
-    std::uint64_t total_cycles = 0;
-    std::vector<std::uint64_t> pass_cycles;
+    std::uint64_t total_cycles = 0;         // an estimate when `estimated`
+    std::vector<std::uint64_t> pass_cycles;  // of the simulated passes, in order
+    std::vector<std::uint32_t> pass_index;   // their indices in the host's plan
+    bool estimated = false;
+    double estimate_ci95 = 0;  // 95 % confidence half-width of total_cycles, cycles
     Host::Stats host;
     StreamLink::Stats sphere_link, triangle_link;
     SphereMemory::Stats sphere_memory;
@@ -74,6 +77,10 @@ private:
     std::uint64_t run_pass(const Host::Pass& p);
     std::uint64_t run_pass_event(const Host::Pass& p);
     void preload(const Host::Pass& p);
+    // The passes to simulate (all, or a sample under sim.estimate), and the
+    // extrapolated total from a sample.
+    std::vector<std::uint32_t> choose_passes(const std::vector<Host::Pass>& passes) const;
+    void extrapolate(const std::vector<Host::Pass>& passes);
     void check_pass(const Host::Pass& p);
     std::string stuck_report(std::uint64_t cycle) const;
     std::uint64_t progress_signature() const;

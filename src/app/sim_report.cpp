@@ -67,6 +67,14 @@ nlohmann::json sim_json(const SimReportInput& in) {
     j["format"] = c.format.name();
     j["clock_mhz"] = c.clock_mhz;
     j["total_cycles"] = r.total_cycles;
+    if (r.estimated)
+        j["estimate"] = {{"mode", "sample_passes"},
+                         {"sample_fraction", c.sample_fraction},
+                         {"sample_seed", c.sample_seed},
+                         {"passes_simulated", r.pass_cycles.size()},
+                         {"pass_index", r.pass_index},
+                         {"ci95_cycles", r.estimate_ci95},
+                         {"note", "total_cycles and time_ms are estimates; other statistics cover the simulated passes"}};
     j["time_ms"] = seconds * 1e3;
     j["passes"] = r.host.passes;
     j["primary_passes"] = r.host.primary_passes;
@@ -192,6 +200,12 @@ std::string sim_summary(const nlohmann::json& j) {
                   j["time_ms"].get<double>(), j["clock_mhz"].get<double>(),
                   (unsigned long long)j["passes"].get<std::uint64_t>(), (unsigned long long)j["ray_groups"].get<std::uint64_t>());
     o << buf;
+    if (j.contains("estimate")) {
+        std::snprintf(buf, sizeof buf, "  estimate: %llu of %llu passes simulated, total cycles +/- %.3g (95 %%)\n",
+                      (unsigned long long)j["estimate"]["passes_simulated"].get<std::uint64_t>(),
+                      (unsigned long long)j["passes"].get<std::uint64_t>(), j["estimate"]["ci95_cycles"].get<double>());
+        o << buf;
+    }
     std::snprintf(buf, sizeof buf,
                   "  links: sphere %llu records, %llu stall cycles; triangle %llu records, %llu stall cycles; RTI utilisation %.1f %%\n",
                   (unsigned long long)j["links"]["sphere"]["records_sent"].get<std::uint64_t>(),
