@@ -64,6 +64,7 @@ struct KnownScene {
 
 const std::vector<KnownScene> kKnown = {
     {"bunny", "bunny/bun_zipper.obj", {}},
+    {"sportscar", "sportscar/sportsCar_62k.obj", {}},
     // The room is closed: camera and light inside it (units: 0.003 m).
     {"conference",
      "conference/conference.obj",
@@ -460,7 +461,7 @@ int main(int argc, char** argv) {
     using namespace raplas;
     Options o;
     CLI::App app{"RAPLAS front end vs Embree 3: wall time per phase on the same rays"};
-    app.add_option("--scene", o.scenes, "scenes to run: bunny, conference (repeatable)")->capture_default_str();
+    app.add_option("--scene", o.scenes, "scenes to run: bunny, sportscar, conference (repeatable)")->capture_default_str();
     app.add_option("--size", o.size, "image width and height")->capture_default_str()->check(CLI::Range(1, 4096));
     app.add_option("--threads", o.threads, "threads for the front end and the multi-threaded Embree runs (0: all)")
         ->capture_default_str();
@@ -489,7 +490,7 @@ int main(int argc, char** argv) {
         for (const auto& name : o.scenes) {
             auto it = std::find_if(kKnown.begin(), kKnown.end(), [&](const KnownScene& k) { return k.name == name; });
             if (it == kKnown.end()) {
-                std::cerr << "raplas_bench_frontend: unknown scene '" << name << "' (bunny, conference)\n";
+                std::cerr << "raplas_bench_frontend: unknown scene '" << name << "' (bunny, sportscar, conference)\n";
                 return 2;
             }
             results.push_back(run_scene(*it, o, threads));

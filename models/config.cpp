@@ -54,6 +54,7 @@ ParamSet machine_params() {
     p.add_int("sim.sync_cycles", 4096, 1, 1000000000, "cycles simulated between SystemC time updates (1 with --vcd)");
     p.add_int("sim.watchdog_cycles", 1000000, 1, 1000000000000,
               "stop with an error when nothing moves for this many cycles");
+    add_memory_system_params(p);
     return p;
 }
 
@@ -91,6 +92,7 @@ SimConfig config_from_params(const ParamSet& p) {
     c.sample_fraction = p.get_real("sim.sample_fraction");
     c.sample_seed = std::uint64_t(p.get_int("sim.sample_seed"));
     c.watchdog_cycles = std::uint64_t(p.get_int("sim.watchdog_cycles"));
+    memory_system_from_params(p, c);
     return c;
 }
 

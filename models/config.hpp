@@ -12,6 +12,21 @@ namespace raplas::model {
 enum class SimMode { cycle, event };
 enum class Estimate { exact, sample_passes };
 
+// The memory system (paper Figure 5, §5.2; docs/MODEL.md §6): the streaming
+// machine (the SystemC model), or a baseline computed from the same trace.
+enum class MemorySystem { streaming, shared, distributed };
+struct MemoryParams {
+    MemorySystem system = MemorySystem::streaming;
+    bool pe_rti_bound = false;           // memory.pe: false = ideal ("fast enough"), true = the ICC's RTI rate
+    bool shared_fetch_spheres = false;   // memory.shared_spheres = fetched
+    bool distributed_stream = false;     // memory.distributed_fetch = stream
+    double records_per_cycle = 1.0;      // per memory port
+};
+// Area model (paper §5.2: PE:memory = 1:2), in units of the PE.
+struct AreaParams {
+    double pe = 1.0, memory = 2.0, icc_fifos = 0.0;
+};
+
 struct SimConfig {
     std::uint32_t iccs = 1;
     double clock_mhz = 400;
@@ -33,9 +48,14 @@ struct SimConfig {
     Estimate estimate = Estimate::exact;
     double sample_fraction = 0.1;
     std::uint64_t sample_seed = 1;
+    MemoryParams memory;
+    AreaParams area;
 };
 
 ParamSet machine_params();
 SimConfig config_from_params(const ParamSet& p);
+// memory.* and area.* keys (models/baseline_memory.cpp).
+void add_memory_system_params(ParamSet& p);
+void memory_system_from_params(const ParamSet& p, SimConfig& c);
 
 }  // namespace raplas::model

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "baseline_memory.hpp"
 #include "commands.hpp"
 #include "config.hpp"
 #include "raplas/app/sim_report.hpp"
@@ -124,8 +125,9 @@ int cmd_simulate(const SimulateArgs& a) {
         };
     }
     model::SimResult result;
+    model::MemoryStats memory;
     try {
-        result = model::simulate(trace, cfg, opt);
+        result = model::simulate_system(trace, cfg, memory, opt);
     } catch (const std::runtime_error& e) {
         if (std::string(e.what()).rfind("watchdog", 0) == 0) throw InputError(e.what());
         throw;
@@ -137,6 +139,7 @@ int cmd_simulate(const SimulateArgs& a) {
     in.config_name = config_name;
     in.scene_name = scene_name;
     in.frontend_wall_s = frontend_s;
+    in.memory = &memory;
     nlohmann::json j = sim_json(in);
     if (!a.json.empty()) write_file_atomically(a.json, j.dump(2) + "\n");
     if (!a.csv.empty()) write_file_atomically(a.csv, sim_csv_header() + sim_csv_row(j));

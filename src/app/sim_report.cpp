@@ -46,6 +46,13 @@ const std::vector<std::pair<const char*, const char*>>& columns() {
         {"blocked_sphere_fifo_full", "/icc_totals/blocked_sphere_fifo_full"},
         {"max_triangle_fifo_occupancy", "/icc_totals/max_triangle_fifo_occupancy"},
         {"functional_match", "/functional_match"},
+        {"memory_system", "/memory/system"},
+        {"area", "/area/total"},
+        {"area_time", "/area_time"},
+        {"sphere_records_read", "/memory/sphere_records_read"},
+        {"triangle_records_read", "/memory/triangle_records_read"},
+        {"memory_bound_cycles", "/memory/memory_bound_cycles"},
+        {"pe_bound_cycles", "/memory/pe_bound_cycles"},
     };
     return c;
 }
@@ -148,6 +155,17 @@ nlohmann::json sim_json(const SimReportInput& in) {
                        {"max_sphere_fifo_occupancy", max_sph},
                        {"max_planeid_fifo_occupancy", max_pid}};
     j["iccs_detail"] = iccs;
+    model::MemoryStats ms;
+    if (in.memory) ms = *in.memory;
+    else ms.system = c.memory.system, ms.area = model::machine_area(c);
+    j["memory"] = {{"system", model::memory_system_name(ms.system)},
+                   {"pe", c.memory.pe_rti_bound ? "rti" : "ideal"},
+                   {"sphere_records_read", ms.sphere_records_read},
+                   {"triangle_records_read", ms.triangle_records_read},
+                   {"memory_bound_cycles", ms.memory_bound_cycles},
+                   {"pe_bound_cycles", ms.pe_bound_cycles}};
+    j["area"] = {{"pe", c.area.pe}, {"memory", c.area.memory}, {"icc_fifos", c.area.icc_fifos}, {"total", ms.area}};
+    j["area_time"] = ms.area * double(r.total_cycles);
     j["functional_checked"] = r.functional_checked;
     j["functional_match"] = r.functional_match;
     j["rays_checked"] = r.rays_checked;
@@ -206,14 +224,24 @@ std::string sim_summary(const nlohmann::json& j) {
                       (unsigned long long)j["passes"].get<std::uint64_t>(), j["estimate"]["ci95_cycles"].get<double>());
         o << buf;
     }
-    std::snprintf(buf, sizeof buf,
-                  "  links: sphere %llu records, %llu stall cycles; triangle %llu records, %llu stall cycles; RTI utilisation %.1f %%\n",
-                  (unsigned long long)j["links"]["sphere"]["records_sent"].get<std::uint64_t>(),
-                  (unsigned long long)j["links"]["sphere"]["stall_cycles"].get<std::uint64_t>(),
-                  (unsigned long long)j["links"]["triangle"]["records_sent"].get<std::uint64_t>(),
-                  (unsigned long long)j["links"]["triangle"]["stall_cycles"].get<std::uint64_t>(),
-                  100.0 * j["icc_totals"]["rti_utilisation"].get<double>());
-    o << buf;
+    if (j["memory"]["system"] == "streaming") {
+        std::snprintf(buf, sizeof buf,
+                      "  links: sphere %llu records, %llu stall cycles; triangle %llu records, %llu stall cycles; RTI utilisation %.1f %%\n",
+                      (unsigned long long)j["links"]["sphere"]["records_sent"].get<std::uint64_t>(),
+                      (unsigned long long)j["links"]["sphere"]["stall_cycles"].get<std::uint64_t>(),
+                      (unsigned long long)j["links"]["triangle"]["records_sent"].get<std::uint64_t>(),
+                      (unsigned long long)j["links"]["triangle"]["stall_cycles"].get<std::uint64_t>(),
+                      100.0 * j["icc_totals"]["rti_utilisation"].get<double>());
+        o << buf;
+    } else {
+        std::snprintf(buf, sizeof buf,
+                      "  %s memory (closed form, PEs %s): %llu sphere and %llu triangle records read; area %.4g\n",
+                      j["memory"]["system"].get<std::string>().c_str(), j["memory"]["pe"].get<std::string>().c_str(),
+                      (unsigned long long)j["memory"]["sphere_records_read"].get<std::uint64_t>(),
+                      (unsigned long long)j["memory"]["triangle_records_read"].get<std::uint64_t>(),
+                      j["area"]["total"].get<double>());
+        o << buf;
+    }
     std::string fm = j["functional_checked"].get<bool>() ? (j["functional_match"].get<bool>() ? "true" : "FALSE") : "not checked";
     std::snprintf(buf, sizeof buf, "  functional_match: %s (%llu rays); model %.3f s wall, %.3g ICC-cycles/s\n", fm.c_str(),
                   (unsigned long long)j["rays_checked"].get<std::uint64_t>(), j["wall"]["model_s"].get<double>(),

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "baseline_memory.hpp"
 #include "top.hpp"
 
 namespace raplas {
@@ -15,6 +16,7 @@ struct SimReportInput {
     std::string config_name;
     std::string scene_name;
     double frontend_wall_s = 0;
+    const model::MemoryStats* memory = nullptr;  // memory system figures (none: not reported)
 };
 
 // Deterministic figures under their own keys; wall-clock figures only under "wall".

@@ -1,0 +1,253 @@
+#include "baseline_memory.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <queue>
+
+#include "raplas/util/error.hpp"
+
+namespace raplas::model {
+
+void add_memory_system_params(ParamSet& p) {
+    p.add_string("memory.system", std::string("streaming"),
+                 "streaming = the RAPLAS machine (SystemC model); shared = one memory, arbitrated among the ICCs; "
+                 "distributed = each ICC its own copy of the scene (baselines of paper Figure 5, docs/MODEL.md §6)",
+                 {"streaming", "shared", "distributed"});
+    p.add_string("memory.pe", std::string("ideal"),
+                 "baselines: ideal = PEs fast enough, time set by the memory ports (paper §5.2); "
+                 "rti = also bounded by each ICC's Ray-Triangle Intersector (icc.rti_pipes tests per cycle)",
+                 {"ideal", "rti"});
+    p.add_string("memory.shared_spheres", std::string("excluded"),
+                 "shared memory: excluded = the port serves triangle fetches only (the paper's Figure 10 counts "
+                 "triangle transfers); fetched = every ray group also reads every sphere through the port",
+                 {"excluded", "fetched"});
+    p.add_string("memory.distributed_fetch", std::string("demand"),
+                 "distributed memory: demand = an ICC reads every sphere and only the triangles of its hit spheres "
+                 "from its own memories; stream = an ICC streams its copy like a one-ICC RAPLAS (exact one-ICC pass "
+                 "cycles from the SystemC model)",
+                 {"demand", "stream"});
+    p.add_real("memory.fetch_records_per_cycle", 1.0, 1e-6, 1e6,
+               "baselines: records (spheres or triangles) one memory port delivers per cycle (paper Table 1: 1)");
+    p.add_real("area.pe", 1.0, 0.0, 1e9, "area of one ICC's processing elements (paper: PE:memory = 1:2)");
+    p.add_real("area.memory", 2.0, 0.0, 1e9, "area of one copy of Sphere and Triangle Memory (paper: 2)");
+    p.add_real("area.icc_fifos", 0.0, 0.0, 1e9,
+               "streaming: area of one ICC's Sphere and Triangle FIFOs (the paper counts PE and memory only: 0)");
+}
+
+void memory_system_from_params(const ParamSet& p, SimConfig& c) {
+    const std::string s = p.get_string("memory.system");
+    c.memory.system = s == "shared" ? MemorySystem::shared
+                      : s == "distributed" ? MemorySystem::distributed
+                                           : MemorySystem::streaming;
+    c.memory.pe_rti_bound = p.get_string("memory.pe") == "rti";
+    c.memory.shared_fetch_spheres = p.get_string("memory.shared_spheres") == "fetched";
+    c.memory.distributed_stream = p.get_string("memory.distributed_fetch") == "stream";
+    c.memory.records_per_cycle = p.get_real("memory.fetch_records_per_cycle");
+    c.area.pe = p.get_real("area.pe");
+    c.area.memory = p.get_real("area.memory");
+    c.area.icc_fifos = p.get_real("area.icc_fifos");
+}
+
+const char* memory_system_name(MemorySystem s) {
+    switch (s) {
+        case MemorySystem::shared: return "shared";
+        case MemorySystem::distributed: return "distributed";
+        default: return "streaming";
+    }
+}
+
+std::vector<GroupWork> group_work(const Trace& t) {
+    std::vector<GroupWork> w(t.groups.size());
+    for (std::size_t g = 0; g < t.groups.size(); ++g) {
+        w[g].primary = g < t.primary_groups;
+        for (const SphereHitRec& h : t.groups[g].sphere_hits) {
+            const std::uint64_t n = t.tri_count[h.sphere];
+            w[g].triangles_needed += n;
+            w[g].rt_tests += std::uint64_t(__builtin_popcountll(h.rows)) * std::uint64_t(__builtin_popcountll(h.cols)) * n;
+        }
+    }
+    return w;
+}
+
+std::uint64_t list_schedule_makespan(const std::vector<std::uint64_t>& durations, std::uint32_t iccs) {
+    // (time the ICC is free, ICC index), smallest first.
+    using Slot = std::pair<std::uint64_t, std::uint32_t>;
+    std::priority_queue<Slot, std::vector<Slot>, std::greater<Slot>> free;
+    const std::uint32_t k = std::max<std::uint32_t>(1, std::min<std::uint64_t>(iccs, durations.size()));
+    for (std::uint32_t i = 0; i < k; ++i) free.push({0, i});
+    std::uint64_t end = 0;
+    for (std::uint64_t d : durations) {
+        Slot s = free.top();
+        free.pop();
+        s.first += d;
+        end = std::max(end, s.first);
+        free.push(s);
+    }
+    return end;
+}
+
+double machine_area(const SimConfig& cfg) {
+    const double k = cfg.iccs;
+    switch (cfg.memory.system) {
+        case MemorySystem::shared: return k * cfg.area.pe + cfg.area.memory;
+        case MemorySystem::distributed: return k * (cfg.area.pe + cfg.area.memory);
+        default: return k * (cfg.area.pe + cfg.area.icc_fifos) + cfg.area.memory;
+    }
+}
+
+namespace {
+
+std::uint64_t ceil_div(std::uint64_t a, std::uint64_t b) { return (a + b - 1) / b; }
+
+// Cycles a port delivering r records per cycle needs for n records.
+std::uint64_t port_cycles(std::uint64_t n, double r) {
+    if (n == 0) return 0;
+    return std::uint64_t(std::ceil(double(n) / r - 1e-9));
+}
+
+// Makespan of the primary groups, then of the shadow groups (a shadow group's
+// origin is a primary hit, so none starts before every primary group is done).
+std::uint64_t phased_makespan(const std::vector<GroupWork>& w, const std::vector<std::uint64_t>& d, std::uint32_t k) {
+    std::vector<std::uint64_t> p, s;
+    for (std::size_t g = 0; g < w.size(); ++g) (w[g].primary ? p : s).push_back(d[g]);
+    return list_schedule_makespan(p, k) + list_schedule_makespan(s, k);
+}
+
+}  // namespace
+
+SimResult baseline_result(const Trace& t, const SimConfig& cfg, MemoryStats& st,
+                          const std::vector<std::uint64_t>* group_cycles) {
+    const std::vector<GroupWork> w = group_work(t);
+    const std::uint64_t S = t.spheres.size(), T = t.triangles.size(), G = w.size();
+    const std::uint32_t k = cfg.iccs;
+    const double r = cfg.memory.records_per_cycle;
+    const std::uint32_t pipes = cfg.icc.rti.pipes;
+    st = MemoryStats{};
+    st.system = cfg.memory.system;
+    st.area = machine_area(cfg);
+
+    std::vector<std::uint64_t> rti(G);  // each group's RTI cycles
+    for (std::size_t g = 0; g < G; ++g) rti[g] = ceil_div(w[g].rt_tests, pipes);
+    st.pe_bound_cycles = phased_makespan(w, rti, k);
+
+    SimResult res;
+    res.host.groups = G;
+    res.iccs.resize(k);
+    std::uint64_t total = 0;
+    if (cfg.memory.system == MemorySystem::shared) {
+        // One port serves every ICC's requests; with ideal PEs some request is
+        // always pending, so any work-conserving arbiter keeps the port busy
+        // until the last one: the time is the phase's requests over the rate.
+        for (bool primary : {true, false}) {
+            std::uint64_t spheres = 0, tris = 0;
+            std::vector<std::uint64_t> d;
+            for (std::size_t g = 0; g < G; ++g) {
+                if (w[g].primary != primary) continue;
+                spheres += cfg.memory.shared_fetch_spheres ? S : 0;
+                tris += w[g].triangles_needed;
+                d.push_back(rti[g]);
+            }
+            const std::uint64_t mem = port_cycles(spheres + tris, r);
+            const std::uint64_t pe = list_schedule_makespan(d, k);
+            st.sphere_records_read += spheres;
+            st.triangle_records_read += tris;
+            st.memory_bound_cycles += mem;
+            total += cfg.memory.pe_rti_bound ? std::max(mem, pe) : mem;
+        }
+    } else if (cfg.memory.system == MemorySystem::distributed) {
+        // Every ICC works through its own groups on its own copy; the groups
+        // go to whichever ICC is free first.
+        std::vector<std::uint64_t> mem(G), dur(G);
+        for (std::size_t g = 0; g < G; ++g) {
+            if (cfg.memory.distributed_stream) {
+                if (!group_cycles || group_cycles->size() != G)
+                    throw std::logic_error("distributed stream fetch needs one-ICC pass cycles per group");
+                mem[g] = std::max(S, T);
+                dur[g] = (*group_cycles)[g];
+                st.triangle_records_read += T;
+            } else {
+                // Spheres from the Sphere Memory copy, the needed triangles from the
+                // Triangle Memory copy, on two ports at once.
+                mem[g] = std::max(port_cycles(S, r), port_cycles(w[g].triangles_needed, r));
+                dur[g] = cfg.memory.pe_rti_bound ? std::max(mem[g], rti[g]) : mem[g];
+                st.triangle_records_read += w[g].triangles_needed;
+            }
+            st.sphere_records_read += S;
+        }
+        st.memory_bound_cycles = phased_makespan(w, mem, k);
+        total = phased_makespan(w, dur, k);
+    } else {
+        throw std::logic_error("baseline_result: streaming is the SystemC model");
+    }
+    res.total_cycles = total;
+    // Per-ICC figures: groups and ray-triangle work in issue order, round robin
+    // (the figures the report sums; the time above does not depend on them).
+    for (std::size_t g = 0; g < G; ++g) {
+        IccSnapshot& s = res.iccs[g % k];
+        ++s.icc.groups;
+        s.rti.tests += w[g].rt_tests;
+        s.rti.busy_cycles += rti[g];
+    }
+    for (IccSnapshot& s : res.iccs) s.icc.pass_cycles = total;
+    return res;
+}
+
+namespace {
+
+// Streaming: the bounds with ideal PEs (one record per cycle on each link, every
+// pass streams all spheres and triangles) and with ideal links (each pass as
+// long as its slowest ICC's RTI work).
+void streaming_bounds(const Trace& t, const SimConfig& cfg, const SimResult& r, MemoryStats& st) {
+    const std::vector<GroupWork> w = group_work(t);
+    const std::uint64_t S = t.spheres.size(), T = t.triangles.size();
+    st.sphere_records_read = r.sphere_link.records_sent;
+    st.triangle_records_read = r.triangle_link.records_sent;
+    st.memory_bound_cycles = r.host.passes * std::max(S, T);
+    const std::uint32_t k = cfg.iccs;
+    for (std::size_t from : {std::size_t(0), std::size_t(t.primary_groups)}) {
+        const std::size_t to = from == 0 ? t.primary_groups : w.size();
+        for (std::size_t b = from; b < to; b += k) {
+            std::uint64_t m = 0;
+            for (std::size_t g = b; g < std::min(to, b + k); ++g) m = std::max(m, ceil_div(w[g].rt_tests, cfg.icc.rti.pipes));
+            st.pe_bound_cycles += m;
+        }
+    }
+    st.area = machine_area(cfg);
+}
+
+}  // namespace
+
+SimResult simulate_system(const Trace& t, const SimConfig& cfg, MemoryStats& stats, const SimOptions& opt) {
+    if (cfg.memory.system == MemorySystem::streaming) {
+        SimResult r = simulate(t, cfg, opt);
+        stats = MemoryStats{};
+        streaming_bounds(t, cfg, r, stats);
+        return r;
+    }
+    if (!opt.vcd_path.empty())
+        throw InputError(std::string("--vcd: memory.system = ") + memory_system_name(cfg.memory.system) +
+                         " is computed in closed form, it has no waveform");
+    if (cfg.memory.system == MemorySystem::distributed && cfg.memory.distributed_stream) {
+        // Each group on a one-ICC streaming machine: exact pass cycles from the
+        // model (trace mode: the cycles do not depend on the functional mode).
+        SimConfig one = cfg;
+        one.iccs = 1;
+        one.memory.system = MemorySystem::streaming;
+        one.functional = FunctionalMode::trace;
+        SimOptions o;
+        o.progress = opt.progress;
+        const SimResult r1 = simulate(t, one, o);
+        std::vector<std::uint64_t> cycles = r1.pass_cycles;
+        SimResult r = baseline_result(t, cfg, stats, &cycles);
+        r.model_wall_s = r1.model_wall_s;
+        return r;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    SimResult r = baseline_result(t, cfg, stats);
+    r.model_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return r;
+}
+
+}  // namespace raplas::model

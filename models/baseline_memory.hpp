@@ -1,0 +1,55 @@
+// The memory systems of the paper's Figure 5 (§5.2) on one trace: the
+// streaming machine (the SystemC model of top.hpp) and two baselines computed
+// in closed form from the same trace, a shared memory (one memory port,
+// arbitrated among the ICCs) and a distributed memory (each ICC its own copy
+// of Sphere and Triangle Memory); and the area model (PE:memory = 1:2).
+// docs/MODEL.md §6 gives every formula and the reasoning behind it.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "config.hpp"
+#include "top.hpp"
+
+namespace raplas::model {
+
+const char* memory_system_name(MemorySystem s);
+
+// What one ray group asks of a memory system.
+struct GroupWork {
+    std::uint64_t triangles_needed = 0;  // triangles of the spheres cut by a row and a column plane
+    std::uint64_t rt_tests = 0;          // ray-triangle tests: sum of |rows| x |cols| x triangles
+    bool primary = true;
+};
+std::vector<GroupWork> group_work(const Trace& t);
+
+// Greedy list scheduling in issue order: each job goes to the ICC that is free
+// first (ties: lowest index); returns the time the last job ends.
+std::uint64_t list_schedule_makespan(const std::vector<std::uint64_t>& durations, std::uint32_t iccs);
+
+struct MemoryStats {
+    MemorySystem system = MemorySystem::streaming;
+    std::uint64_t sphere_records_read = 0;    // records read out of the memories (all copies)
+    std::uint64_t triangle_records_read = 0;
+    std::uint64_t memory_bound_cycles = 0;    // the system's time with ideal PEs
+    std::uint64_t pe_bound_cycles = 0;        // the time with ideal memories: RTI work only
+    double area = 0;                          // in PE units (AreaParams)
+};
+
+// Area of the configured system with cfg.iccs ICCs.
+double machine_area(const SimConfig& cfg);
+
+// A baseline's result from the trace alone. group_cycles: for the distributed
+// system with memory.distributed_fetch = stream, each group's cycles on one
+// streaming ICC (pass_cycles of a one-ICC run), else ignored.
+SimResult baseline_result(const Trace& t, const SimConfig& cfg, MemoryStats& stats,
+                          const std::vector<std::uint64_t>* group_cycles = nullptr);
+
+// Runs the configured memory system: the SystemC model for streaming (and the
+// one-ICC streaming run a distributed system with stream fetch needs), the
+// closed form for the baselines. One call per process (SystemC).
+SimResult simulate_system(const Trace& t, const SimConfig& cfg, MemoryStats& stats, const SimOptions& opt = {});
+
+}  // namespace raplas::model
