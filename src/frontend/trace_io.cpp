@@ -119,9 +119,9 @@ Trace make_trace_impl(const Scene& scene, FrameRef& f, const NumFormat& format) 
         tg.row_valid = g.row_valid;
         tg.col_valid = g.col_valid;
         tg.planes = g.planes;
-        tg.dirs.resize(std::size_t(g.n) * g.n);
-        for (std::uint32_t v = 0; v < g.n; ++v)
-            for (std::uint32_t h = 0; h < g.n; ++h) tg.dirs[v * g.n + h] = group_ray(g, h, v).d;
+        tg.grid_corner = g.grid_corner;  // directions computed on use: 72 bytes instead of 12 N^2
+        tg.du = g.du;
+        tg.dv = g.dv;
         tg.counts = r.counts;
         if constexpr (std::is_const_v<std::remove_reference_t<decltype(r)>>) {
             tg.sphere_hits = r.sphere_list;
@@ -182,7 +182,8 @@ std::string serialize_trace(const Trace& t) {
         w.put(g.tmax);
         w.put(g.row_valid); w.put(g.col_valid);
         for (const auto& p : g.planes) { w.put_vec(p.n); w.put(p.w); }
-        for (const auto& d : g.dirs) w.put_vec(d);
+        for (std::uint32_t v = 0; v < g.n; ++v)
+            for (std::uint32_t h = 0; h < g.n; ++h) w.put_vec(g.dir(h, v));
         w.put(g.counts.plane_tests); w.put(g.counts.sphere_hits); w.put(g.counts.rt_tests);
         w.put(std::uint64_t(g.sphere_hits.size()));
         const std::uint32_t mb = mask_bytes(g.n);

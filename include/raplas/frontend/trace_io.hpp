@@ -22,14 +22,19 @@ struct TraceGroup {
     float tmax = 0;
     std::uint64_t row_valid = 0, col_valid = 0;
     std::vector<Plane> planes;            // 2N
-    std::vector<Vec3f> dirs;              // N*N ray directions, index v*N + h
+    std::vector<Vec3f> dirs;              // N*N ray directions, index v*N + h; empty: from the grid below
+    Vec3d grid_corner, du, dv;            // (traces built in memory) grid point (h, v) = corner + (h+.5) du + (v+.5) dv
     std::vector<SphereHitRec> sphere_hits;  // spheres with a row and a column plane hit, in stream order
     GroupCounts counts;
     std::vector<Hit> hits;                // N*N nearest hits found by the front end
 
-    Ray ray(std::uint32_t h, std::uint32_t v) const {
-        return Ray{origin, dirs[std::size_t(v) * n + h], 0.0f, tmax};
+    // Ray (h, v): the stored direction, or the one group_ray() computes from
+    // the grid (the same expression, so the same bits).
+    Vec3f dir(std::uint32_t h, std::uint32_t v) const {
+        if (!dirs.empty()) return dirs[std::size_t(v) * n + h];
+        return to_f(grid_corner + du * (h + 0.5) + dv * (v + 0.5) - to_d(origin));
     }
+    Ray ray(std::uint32_t h, std::uint32_t v) const { return Ray{origin, dir(h, v), 0.0f, tmax}; }
     bool ray_valid(std::uint32_t h, std::uint32_t v) const { return (row_valid >> v & 1) && (col_valid >> h & 1); }
 };
 
