@@ -45,12 +45,12 @@ ParamSet machine_params() {
                  "what cannot change (same cycle counts and statistics; --vcd forces cycle)",
                  {"cycle", "event"});
     p.add_string("sim.estimate", std::string("exact"),
-                 "exact = simulate every pass; sample_passes = simulate every primary pass and a systematic "
+                 "exact = simulate every pass; sample_passes = simulate every primary pass and a stratified "
                  "sample of the shadow passes and extrapolate total cycles, with a 95 % confidence half-width "
                  "(the other statistics then cover the simulated passes only)",
                  {"exact", "sample_passes"});
     p.add_real("sim.sample_fraction", 0.1, 1e-6, 1.0, "sample_passes: fraction of the shadow passes simulated (at least 2)");
-    p.add_int("sim.sample_seed", 1, 0, 1000000000, "sample_passes: picks the offset of the systematic sample");
+    p.add_int("sim.sample_seed", 1, 0, 1000000000, "sample_passes: seeds the pass drawn in each stratum");
     p.add_int("sim.sync_cycles", 4096, 1, 1000000000, "cycles simulated between SystemC time updates (1 with --vcd)");
     p.add_int("sim.watchdog_cycles", 1000000, 1, 1000000000000,
               "stop with an error when nothing moves for this many cycles");

@@ -42,7 +42,7 @@ struct SimConfig {
     SimMode mode = SimMode::event;
     std::uint64_t sync_cycles = 4096;      // cycles simulated between kernel time updates
     std::uint64_t watchdog_cycles = 1000000;
-    // sample_passes: simulate every primary pass and a systematic sample of
+    // sample_passes: simulate every primary pass and a stratified sample of
     // the shadow passes, extrapolate the shadow passes' cycles (passes are
     // independent: each starts from empty FIFOs and record 0).
     Estimate estimate = Estimate::exact;

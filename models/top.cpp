@@ -251,22 +251,30 @@ std::vector<std::uint32_t> Top::choose_passes(const std::vector<Host::Pass>& pas
     const std::size_t ns = shadow.size();
     const std::size_t n = std::min<std::size_t>(ns, std::max<std::size_t>(2, std::size_t(std::ceil(cfg_.sample_fraction * double(ns)))));
     if (n == ns) return all;
-    // Systematic sample: one pass in each of n equal strata of the shadow
-    // passes, at the same offset in every stratum (from the seed).
-    std::uint64_t x = cfg_.sample_seed * 0x9E3779B97F4A7C15ull + 0x632BE59BD9B4E019ull;
-    x ^= x >> 31;
-    x *= 0xBF58476D1CE4E5B9ull;
-    x ^= x >> 29;
-    const double u = double(x >> 11) * 0x1p-53, step = double(ns) / double(n);
-    for (std::size_t j = 0; j < n; ++j)
-        chosen.push_back(shadow[std::min(ns - 1, std::size_t((double(j) + u) * step))]);
+    // Stratified sample: one pass in each of n equal strata of the shadow
+    // passes, at an offset drawn independently per stratum from the seed (a
+    // common offset would alias with the image's rows: at 16 ICCs and 64
+    // pixels a row is 4 passes).
+    const double step = double(ns) / double(n);
+    for (std::size_t j = 0; j < n; ++j) {
+        std::uint64_t x = (cfg_.sample_seed * 0x9E3779B97F4A7C15ull) ^ (std::uint64_t(j) * 0xD1B54A32D192ED03ull);
+        x ^= x >> 31;
+        x *= 0xBF58476D1CE4E5B9ull;
+        x ^= x >> 29;
+        x *= 0x94D049BB133111EBull;
+        x ^= x >> 32;
+        const double u = double(x >> 11) * 0x1p-53;
+        const std::size_t lo = std::size_t(double(j) * step), hi = std::max(lo + 1, std::size_t(double(j + 1) * step));
+        chosen.push_back(shadow[std::min(ns - 1, lo + std::min(hi - lo - 1, std::size_t(u * double(hi - lo))))]);
+    }
     return chosen;
 }
 
 void Top::extrapolate(const std::vector<Host::Pass>& passes) {
     // Primary passes are all simulated; the shadow total is N times the mean
     // of the n sampled shadow passes, with the finite-population standard
-    // error N s / sqrt(n) sqrt(1 - n/N).
+    // error of a simple random sample, N s / sqrt(n) sqrt(1 - n/N) (for one
+    // pass per stratum usually an overestimate).
     std::uint64_t primary = 0;
     std::vector<double> sample;
     for (std::size_t k = 0; k < result_.pass_index.size(); ++k)
