@@ -5,6 +5,7 @@
 #include <string>
 
 #include "icc.hpp"
+#include "watchdog.hpp"
 #include "raplas/util/params.hpp"
 
 namespace raplas::model {
@@ -25,6 +26,8 @@ struct SimConfig {
     SimMode mode = SimMode::event;
     std::uint64_t sync_cycles = 4096;      // cycles simulated between kernel time updates
     std::uint64_t watchdog_cycles = 1000000;
+    Fault fault = Fault::none;  // fault injection (tests of the watchdog)
+    std::uint32_t fault_icc = 0;
 };
 
 ParamSet machine_params();
