@@ -55,6 +55,11 @@ ParamSet machine_params() {
     p.add_int("sim.watchdog_cycles", 1000000, 1, 1000000000000,
               "stop with an error when nothing moves for this many cycles");
     add_memory_system_params(p);
+    p.add_string("sim.fault", std::string("none"),
+                 "fault injection, to provoke the watchdog: stuck_rti = ICC sim.fault_icc's Ray-Triangle "
+                 "Intersector takes no pair; stuck_psi = its Plane-Sphere Intersector takes no sphere",
+                 {"none", "stuck_rti", "stuck_psi"});
+    p.add_int("sim.fault_icc", 0, 0, 4095, "the ICC sim.fault applies to (it must have a group to stall)");
     return p;
 }
 
@@ -93,6 +98,12 @@ SimConfig config_from_params(const ParamSet& p) {
     c.sample_seed = std::uint64_t(p.get_int("sim.sample_seed"));
     c.watchdog_cycles = std::uint64_t(p.get_int("sim.watchdog_cycles"));
     memory_system_from_params(p, c);
+    const std::string fault = p.get_string("sim.fault");
+    c.fault = fault == "stuck_rti" ? Fault::stuck_rti : fault == "stuck_psi" ? Fault::stuck_psi : Fault::none;
+    c.fault_icc = std::uint32_t(p.get_int("sim.fault_icc"));
+    if (c.fault_icc >= c.iccs)
+        throw InputError(p.origin("sim.fault_icc") + ": sim.fault_icc = " + std::to_string(c.fault_icc) +
+                         " but the machine has " + std::to_string(c.iccs) + " ICCs");
     return c;
 }
 

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "icc.hpp"
+#include "watchdog.hpp"
 #include "raplas/util/params.hpp"
 
 namespace raplas::model {
@@ -50,6 +51,8 @@ struct SimConfig {
     std::uint64_t sample_seed = 1;
     MemoryParams memory;
     AreaParams area;
+    Fault fault = Fault::none;  // fault injection (tests of the watchdog)
+    std::uint32_t fault_icc = 0;
 };
 
 ParamSet machine_params();

@@ -96,6 +96,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p) {
         std::uint64_t done = 0;
     };
     std::vector<Back> back(na);
+    constexpr std::uint64_t kNever = ~std::uint64_t(0);
     std::vector<std::uint8_t> is_full(na, 0);
     std::uint64_t max_done = 0;
 
@@ -118,6 +119,13 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p) {
         Back& b = back[k];
         while (!b.starts.empty() && b.starts.front() <= c) b.starts.pop_front();  // popped by this cycle's Fetcher
         const std::uint64_t m = std::uint64_t(__builtin_popcountll(masks.rows)) * std::uint64_t(__builtin_popcountll(masks.cols));
+        if (icc.rti.stuck()) {  // fault injection: the Fetcher never pops this FIFO again
+            b.starts.push_back(kNever);
+            icc.triangle_fifo.record_push(std::uint32_t(b.starts.size()));
+            if (b.starts.size() >= tri_depth) full_until.push_back({k, kNever});
+            max_done = kNever;
+            return;
+        }
         std::uint64_t start = c + 1;
         std::uint32_t used = 0;
         if (b.any && b.next_cyc >= start) {
@@ -158,6 +166,32 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p) {
         icc.ray_data_fetcher.note_triangle();
     };
 
+    // Fault injection: a stuck PSI makes its ICC's sphere side its own from the start.
+    if (cfg_.fault == Fault::stuck_psi && cfg_.fault_icc < na) {
+        adopt_reference(cfg_.fault_icc);
+        role[cfg_.fault_icc] = individual;
+        --n_ref;
+        individuals.push_back(cfg_.fault_icc);
+    }
+
+    // The watchdog's picture of the active ICCs at the start of cycle c.
+    auto views = [&](std::uint64_t c) {
+        std::vector<IccView> v;
+        for (std::size_t k = 0; k < na; ++k) {
+            const Icc& icc = *active[k];
+            IccView w = view_of(icc, k);  // active[k] is iccs[k]
+            if (role[k] == ref) {
+                w.sphere_fifo = rf.size();
+                w.decided = rd.decided();
+            }
+            const auto& starts = back[k].starts;
+            w.triangle_fifo = std::uint32_t(std::count_if(starts.begin(), starts.end(), [&](std::uint64_t s) { return s >= c; }));
+            w.back_busy = back[k].any && back[k].done >= c;
+            v.push_back(w);
+        }
+        return v;
+    };
+
     std::uint64_t cycle = 0;
     Watch watch{progress_signature(), 0};
     for (;;) {
@@ -195,7 +229,9 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p) {
                 for (std::uint32_t k : full_now) t_held = t_held || tri_blocker(k);
                 std::uint64_t popped = ~std::uint64_t(0);
                 for (const auto& f : full_until) popped = std::min(popped, f.second);
-                if (t_held && popped > cycle) d = popped - cycle;
+                // (a FIFO never popped, under fault injection, is left to the
+                // cycle-by-cycle path and its watchdog)
+                if (t_held && popped > cycle && popped != kNever) d = popped - cycle;
             }
             if (s_steady) {
                 d = std::min<std::uint64_t>(d, sphere_link.end() - sp);
@@ -337,7 +373,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p) {
         std::sort(full_now.begin(), full_now.end());
         ++cycle;
         if (!sphere_link.has_record() && !triangle_link.has_record() && selecting.empty() && max_done < cycle) break;
-        if (++since_sync_ >= cfg_.sync_cycles) sync_time(cycle, watch, max_done);
+        if (++since_sync_ >= cfg_.sync_cycles) sync_time(cycle, watch, max_done, [&] { return views(cycle); });
     }
     for (std::size_t k = 0; k < na; ++k)
         if (role[k] == ref) adopt_reference(k);

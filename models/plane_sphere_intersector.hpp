@@ -121,9 +121,13 @@ public:
 
     // n cycles with nothing in flight and nothing to take (event-driven simulation).
     void idle(std::uint64_t n) { t_ += n; }
+    // Fault injection (sim.fault = stuck_psi): takes no sphere and advances no stage from now on.
+    void set_stuck(bool s) { stuck_ = s; }
+    bool stuck() const { return stuck_; }
 
     // One clock cycle, after the Decoder has looked at the output.
     void tick(SphereFifo& in, bool stalled, bool spheres_pending) {
+        if (stuck_) return;
         if (stalled) {
             ++stats_.stall_cycles;
             return;
@@ -164,6 +168,7 @@ private:
     const std::vector<SphereHitRec>* hits_ = nullptr;
     std::size_t cursor_ = 0;
     std::uint64_t group_spheres_ = 0;
+    bool stuck_ = false;
     Stats stats_;
 };
 

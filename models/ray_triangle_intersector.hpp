@@ -58,7 +58,10 @@ public:
         stats_.hits += hits;
         stats_.busy_cycles += busy;
     }
-    bool can_issue() const { return count_[idx_] < params_.pipes; }
+    bool can_issue() const { return !stuck_ && count_[idx_] < params_.pipes; }
+    // Fault injection (sim.fault = stuck_rti): takes no pair from now on.
+    void set_stuck(bool s) { stuck_ = s; }
+    bool stuck() const { return stuck_; }
     void issue(const RtiOp& op) {
         ops_[std::size_t(idx_) * params_.pipes + count_[idx_]++] = op;
         ++inflight_;
@@ -77,6 +80,7 @@ private:
     std::vector<RtiOp> ops_;             // stages x pipes slots
     std::vector<std::uint32_t> count_;   // pairs in each stage's slot
     std::uint32_t idx_ = 0, inflight_ = 0;
+    bool stuck_ = false;
     Stats stats_;
 };
 

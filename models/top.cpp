@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -36,6 +37,8 @@ Top::Top(sc_core::sc_module_name n, const SimConfig& cfg, const Trace& trace, co
       opt_(opt),
       period_(1.0e6 / cfg.clock_mhz, sc_core::SC_PS) {
     iccs.init(cfg.iccs, [&](const char* name, std::size_t) { return new Icc(name, cfg.icc, f); });
+    if (cfg.fault == Fault::stuck_rti) iccs[cfg.fault_icc].rti.set_stuck(true);
+    if (cfg.fault == Fault::stuck_psi) iccs[cfg.fault_icc].psi.set_stuck(true);
     std::vector<SphereRecord> srec(trace.spheres.size());
     std::vector<std::uint32_t> sphere_of(trace.triangles.size());
     for (std::size_t s = 0; s < trace.spheres.size(); ++s) {
@@ -120,22 +123,34 @@ std::uint64_t Top::progress_signature() const {
     return sig;
 }
 
-std::string Top::stuck_report(std::uint64_t cycle) const {
-    std::ostringstream o;
-    o << "watchdog: no progress for " << cfg_.watchdog_cycles << " cycles (pass " << result_.pass_cycles.size()
-      << ", cycle " << cycle << "): sphere link at " << sphere_link.position() << "/" << sphere_link.end()
-      << ", triangle link at " << triangle_link.position() << "/" << triangle_link.end() << ";";
-    int shown = 0;
-    for (std::size_t k = 0; k < iccs.size() && shown < 8; ++k) {
-        const Icc& c = iccs[k];
-        if (!c.active()) continue;
-        ++shown;
-        o << " icc_" << k << ": sphere_fifo " << c.sphere_fifo.size() << "/" << c.sphere_fifo.depth() << ", planeid_fifo "
-          << c.planeid_fifo.size() << "/" << c.planeid_fifo.depth() << ", triangle_fifo " << c.triangle_fifo.size()
-          << "/" << c.triangle_fifo.depth() << ", decided " << c.decoder.decided() << ", rti in flight "
-          << c.rti.inflight() << ";";
-    }
-    return o.str();
+IccView Top::view_of(const Icc& c, std::size_t k) const {
+    IccView v;
+    v.index = k;
+    v.sphere_fifo = c.sphere_fifo.size();
+    v.sphere_depth = c.sphere_fifo.depth();
+    v.planeid_fifo = std::max(c.planeid_fifo.size(), c.first_tri_fifo.size());
+    v.planeid_depth = c.planeid_fifo.depth();
+    v.triangle_fifo = c.triangle_fifo.size();
+    v.triangle_depth = c.triangle_fifo.depth();
+    v.decided = c.decoder.decided();
+    v.psi_held = c.psi.has_output() && c.psi.output().rows && c.psi.output().cols &&
+                 (c.planeid_fifo.full() || c.first_tri_fifo.full());
+    v.back_busy = !c.back_idle();
+    return v;
+}
+
+std::string Top::stuck_report(std::uint64_t cycle, const std::vector<IccView>& views) const {
+    StallPicture p;
+    p.watchdog_cycles = cfg_.watchdog_cycles;
+    p.cycle = cycle;
+    p.pass = result_.pass_cycles.size() + 1;
+    p.sphere_link = {sphere_link.position(), sphere_link.end()};
+    p.triangle_link = {triangle_link.position(), triangle_link.end()};
+    if (triangle_link.has_record()) p.triangle_sphere = triangle_memory.sphere_of(std::uint32_t(triangle_link.position()));
+    p.iccs = views;
+    p.fault = cfg_.fault;
+    p.fault_icc = cfg_.fault_icc;
+    return describe_stall(p);
 }
 
 void Top::broadcast(bool s_has, bool s_ok, bool t_has, bool t_ok, std::int64_t& s, std::int64_t& t) {
@@ -159,15 +174,16 @@ void Top::broadcast(bool s_has, bool s_ok, bool t_has, bool t_ok, std::int64_t& 
     }
 }
 
-void Top::sync_time(std::uint64_t cycle, Watch& w, std::uint64_t extra_progress) {
+void Top::sync_time(std::uint64_t cycle, Watch& w, std::uint64_t extra_progress,
+                    const std::function<std::vector<IccView>()>& views) {
     wait(period_ * double(since_sync_));
     since_sync_ = 0;
     const std::uint64_t sig = progress_signature() + extra_progress;
-    if (sig != w.signature) {
+    if (sig != w.signature || cycle <= cfg_.triangle_lag_cycles) {  // the initial lag is no stall
         w.signature = sig;
         w.changed_at = cycle;
     } else if (cycle - w.changed_at >= cfg_.watchdog_cycles) {
-        throw std::runtime_error(stuck_report(cycle));
+        throw std::runtime_error(stuck_report(cycle, views()));
     }
 }
 
@@ -215,7 +231,13 @@ std::uint64_t Top::run_pass(const Host::Pass& p) {
             for (Icc* c : active) drained = drained && c->drained();
             if (drained) break;
         }
-        if (++since_sync_ >= cfg_.sync_cycles) sync_time(cycle, watch, 0);
+        if (++since_sync_ >= cfg_.sync_cycles)
+            sync_time(cycle, watch, 0, [&] {
+                std::vector<IccView> v;
+                for (std::size_t k = 0; k < iccs.size(); ++k)
+                    if (iccs[k].active()) v.push_back(view_of(iccs[k], k));
+                return v;
+            });
     }
     for (auto& icc : iccs)
         if (!icc.active()) icc.add_idle(cycle);

@@ -13,6 +13,7 @@
 #include "icc.hpp"
 #include "memories.hpp"
 #include "stream_link.hpp"
+#include "watchdog.hpp"
 
 namespace raplas::model {
 
@@ -82,7 +83,9 @@ private:
     std::vector<std::uint32_t> choose_passes(const std::vector<Host::Pass>& passes) const;
     void extrapolate(const std::vector<Host::Pass>& passes);
     void check_pass(const Host::Pass& p);
-    std::string stuck_report(std::uint64_t cycle) const;
+    // The watchdog's one-line report (models/watchdog.hpp) from the active ICCs' states.
+    std::string stuck_report(std::uint64_t cycle, const std::vector<IccView>& views) const;
+    IccView view_of(const Icc& c, std::size_t k) const;
     std::uint64_t progress_signature() const;
     // One cycle of both Stream Links: send, stall or idle; s/t get the records sent.
     void broadcast(bool s_has, bool s_ok, bool t_has, bool t_ok, std::int64_t& s, std::int64_t& t);
@@ -90,7 +93,9 @@ private:
     struct Watch {
         std::uint64_t signature = 0, changed_at = 0;
     };
-    void sync_time(std::uint64_t cycle, Watch& w, std::uint64_t extra_progress);
+    // `views` gives the active ICCs' states for the report should the watchdog fire.
+    void sync_time(std::uint64_t cycle, Watch& w, std::uint64_t extra_progress,
+                   const std::function<std::vector<IccView>()>& views);
     void setup_vcd();
     void sample_vcd(bool s_valid, bool s_stall, bool t_valid, bool t_stall);
 

@@ -91,7 +91,8 @@ void SceneOptions::add_to(CLI::App* cmd, bool with_format) {
     cmd->add_option("--set", sets, "override a scene key, e.g. --set image.width=128 (repeatable)");
     if (with_format)
         cmd->add_option("--format", format, "number format of the intersection tests: float32, float64, fp1-E-M[-rtz]");
-    cmd->add_option("--threads", threads, "worker threads of the front end (default: all cores)");
+    cmd->add_option("--threads", threads, "worker threads of the front end (default: all cores)")
+        ->check(CLI::Range(0u, 1024u));
     cmd->add_flag("--no-cull", no_cull,
                   "front end: test every sphere against every group (results are identical; only slower)");
     cmd->add_flag("--dump-scene", dump_scene, "print the resolved scene as TOML and exit");
@@ -118,6 +119,7 @@ bool SceneOptions::load(Scene& out, double& load_s, const std::function<void(Par
         return false;
     }
     out = scene_from_params(p, mesh);
+    for (const auto& w : out.mesh.warnings) std::cerr << "raplas: warning: " << InputError::printable(w) << "\n";
     load_s = since(t0);
     return true;
 }

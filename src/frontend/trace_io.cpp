@@ -1,5 +1,7 @@
 #include "raplas/frontend/trace_io.hpp"
 
+#include <sys/stat.h>
+
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -213,9 +215,12 @@ Trace parse_trace(const std::string& bytes, const std::string& name) {
     auto payload = r.get<std::uint64_t>();
     auto sum = r.get<std::uint64_t>();
     if (header != kHeaderBytes) throw InputError(name + ": corrupt trace header");
-    if (bytes.size() - kHeaderBytes != payload)
+    if (bytes.size() - kHeaderBytes < payload)
         throw InputError(name + ": truncated trace (" + std::to_string(bytes.size() - kHeaderBytes) + " of " +
                          std::to_string(payload) + " payload bytes)");
+    if (bytes.size() - kHeaderBytes > payload)
+        throw InputError(name + ": corrupt trace (" + std::to_string(bytes.size() - kHeaderBytes - payload) +
+                         " bytes after the " + std::to_string(payload) + "-byte payload)");
     if (fnv1a(bytes.data() + kHeaderBytes, payload) != sum) throw InputError(name + ": corrupt trace (checksum mismatch)");
 
     Trace t;
@@ -307,6 +312,8 @@ Trace parse_trace(const std::string& bytes, const std::string& name) {
 void write_trace(const std::string& path, const Trace& t) { write_file_atomically(path, serialize_trace(t)); }
 
 Trace read_trace(const std::string& path) {
+    struct stat st{};
+    if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) throw InputError(path + ": is a directory, not a trace");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(path + ": cannot open trace: " + std::strerror(errno));
     std::stringstream ss;

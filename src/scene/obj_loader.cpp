@@ -1,5 +1,6 @@
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -67,6 +68,30 @@ void check_exponents(const std::string& where, const std::string& line) {
     std::string tok;
     while (ls >> tok)
         if (has_huge_exponent(tok)) throw InputError(where + "number '" + tok + "' has an exponent out of range");
+}
+
+// An MTL line: no number tinyobjloader cannot read safely, and the colours
+// raplas uses (Kd diffuse, Ke emission) are 1 or 3 finite numbers
+// (tinyobjloader itself would read "nan" or "red" as 0).
+void check_mtl_line(const std::string& where, const std::string& line) {
+    check_exponents(where, line);
+    std::istringstream ls(line);
+    std::string kw, tok;
+    ls >> kw;
+    if (kw != "Kd" && kw != "Ke") return;
+    int n = 0;
+    while (ls >> tok) {
+        double x;
+        char* end = nullptr;
+        x = std::strtod(tok.c_str(), &end);
+        if (end != tok.c_str() + tok.size())
+            throw InputError(where + "'" + kw + "' expects numbers, got '" + tok + "'");
+        if (!std::isfinite(x) || std::fabs(x) > 3.0e38)
+            throw InputError(where + "'" + kw + "' value '" + tok + "' is not a finite float");
+        ++n;
+    }
+    if (n != 1 && n != 3)
+        throw InputError(where + "'" + kw + "' needs 1 or 3 numbers, got " + std::to_string(n));
 }
 
 // One line as tinyobjloader splits them: a line ends at \n, \r\n or a lone \r.
@@ -167,32 +192,40 @@ public:
         struct stat st{};
         std::ifstream in;
         if (::stat(file.c_str(), &st) == 0 && S_ISREG(st.st_mode)) in.open(file, std::ios::binary);
-        if (!in) {
-            if (warn) *warn += "material file '" + name + "' not found\n";
+        if (!in.is_open()) {
+            if (warn) *warn += "material file '" + file + "' not found\n";
+            missing_.push_back(file);
             return false;
         }
         std::stringstream ss;
         ss << in.rdbuf();
         const std::string text = ss.str();
+        if (text.find('\0') != std::string::npos) throw InputError(file + ": not a text MTL file (contains NUL bytes)");
         std::size_t pos = 0;
         std::string line;
         for (long lineno = 1; next_line(text, pos, line); ++lineno) {
             const auto first = line.find_first_not_of(" \t");
             if (first != std::string::npos && line[first] != '#')
-                check_exponents(file + ":" + std::to_string(lineno) + ": ", line);
+                check_mtl_line(file + ":" + std::to_string(lineno) + ": ", line);
         }
         std::istringstream mtl(text);
         tinyobj::LoadMtl(names, materials, &mtl, warn, err);
         return true;
     }
 
+    // MTL files named by `mtllib` that could not be read.
+    const std::vector<std::string>& missing() const { return missing_; }
+
 private:
     std::string dir_;
+    std::vector<std::string> missing_;
 };
 
 }  // namespace
 
 Mesh load_obj(const std::string& path) {
+    struct stat st{};
+    if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) throw InputError(path + ": is a directory, not an OBJ file");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(path + ": cannot open OBJ file: " + std::strerror(errno));
     std::stringstream ss;
@@ -218,6 +251,20 @@ Mesh load_obj_text(const std::string& text, const std::string& path, const std::
 
     Mesh m;
     m.source = path;
+    for (const auto& f : mtl_reader.missing())
+        m.warnings.push_back(path + ": material file '" + f + "' not found; its materials get the default colour");
+    // tinyobjloader's "material [ 'NAME' ] not found in .mtl" (usemtl of an
+    // unknown name; the faces get the default material).
+    for (std::size_t pos = 0; pos < warn.size();) {
+        std::size_t end = warn.find('\n', pos);
+        if (end == std::string::npos) end = warn.size();
+        const std::string w = warn.substr(pos, end - pos);
+        pos = end + 1;
+        const auto a = w.find("material [ "), b = w.find(" ] not found in .mtl");
+        if (a != 0 || b == std::string::npos || !mtl_reader.missing().empty()) continue;
+        const std::string msg = path + ": usemtl " + w.substr(11, b - 11) + " names no material; default colour used";
+        if (std::find(m.warnings.begin(), m.warnings.end(), msg) == m.warnings.end()) m.warnings.push_back(msg);
+    }
     m.materials.push_back(Material{});
     for (const auto& mt : materials) {
         Material mm;

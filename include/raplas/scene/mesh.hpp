@@ -23,6 +23,7 @@ struct Mesh {
     std::vector<std::int32_t> triangle_material;  // index into materials, per triangle
     std::vector<Material> materials;              // never empty: [0] is the default
     std::string source;                           // file path, or "<builtin:NAME>"
+    std::vector<std::string> warnings;            // one line each: what was read with a fallback (missing MTL)
 
     std::size_t triangle_count() const { return triangles.size(); }
     Aabb bounds() const;

@@ -1,0 +1,206 @@
+// The bad-input table (tests/bad_input/cases.toml, shown in docs/BAD_INPUT.md):
+// every case runs the command line in a forked child of this process (the
+// same code as the executable, without the cost of loading it ~100 times) in
+// a fresh directory holding the case's files; the test checks the exit code,
+// the whole of stderr and that a refused run left no file behind.
+// tests/bad_input.py generates the page from the same table and checks it.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <random>
+#include <set>
+#include <sstream>
+#include <string>
+#include <toml++/toml.h>
+#include <vector>
+
+#include "raplas/app/cli.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+struct Outcome {
+    int code = -1;
+    std::string err;
+};
+
+// `raplas ARGS` in a child process with `dir` as working directory.
+Outcome run_in_child(const fs::path& dir, const std::vector<std::string>& args,
+                     const std::vector<std::pair<std::string, std::string>>& env) {
+    const fs::path out = dir.parent_path() / (dir.filename().string() + ".stdout");
+    const fs::path err = dir.parent_path() / (dir.filename().string() + ".stderr");
+    std::cout.flush();
+    std::cerr.flush();
+    std::fflush(nullptr);
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+        const int o = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (o < 0 || e < 0 || ::dup2(o, 1) < 0 || ::dup2(e, 2) < 0 || ::chdir(dir.c_str()) != 0) ::_exit(125);
+        ::unsetenv("RAPLAS_SCENE_PATH");
+        ::unsetenv("RAPLAS_MAX_MEMORY");
+        for (const auto& [k, v] : env) ::setenv(k.c_str(), v.c_str(), 1);
+        std::vector<std::string> storage = {"raplas"};
+        storage.insert(storage.end(), args.begin(), args.end());
+        std::vector<char*> argv;
+        for (auto& s : storage) argv.push_back(s.data());
+        argv.push_back(nullptr);
+        const int code = raplas::run_cli(int(storage.size()), argv.data());
+        std::cout.flush();
+        std::cerr.flush();
+        std::fflush(nullptr);
+        ::_exit(code);  // no static destructors, no leak check of the parent's state
+    }
+    Outcome r;
+    int status = 0;
+    if (pid < 0 || ::waitpid(pid, &status, 0) != pid) return r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    r.err = slurp(err);
+    fs::remove(out);
+    fs::remove(err);
+    return r;
+}
+
+std::vector<std::string> expected_lines(const toml::table& c) {
+    std::vector<std::string> v;
+    if (auto s = c["message"].value<std::string>()) v.push_back(*s);
+    else if (auto* a = c["message"].as_array())
+        for (const auto& e : *a) v.push_back(e.value_or(std::string()));
+    return v;
+}
+
+// "..." in an expected line stands for any text.
+bool line_matches(const std::string& want, const std::string& got) {
+    std::vector<std::string> parts;
+    for (std::size_t start = 0;;) {
+        const std::size_t dots = want.find("...", start);
+        parts.push_back(want.substr(start, dots == std::string::npos ? std::string::npos : dots - start));
+        if (dots == std::string::npos) break;
+        start = dots + 3;
+    }
+    if (parts.size() == 1) return got == want;
+    if (got.compare(0, parts[0].size(), parts[0]) != 0) return false;
+    std::size_t pos = parts[0].size();
+    for (std::size_t k = 1; k + 1 < parts.size(); ++k) {
+        pos = got.find(parts[k], pos);
+        if (pos == std::string::npos) return false;
+        pos += parts[k].size();
+    }
+    const std::string& last = parts.back();
+    return got.size() >= pos + last.size() && got.compare(got.size() - last.size(), last.size(), last) == 0;
+}
+
+class BadInputTable : public ::testing::Test {
+protected:
+    fs::path tmp;
+    std::string valid_trace;
+
+    void SetUp() override {
+        std::string tmpl = (fs::path(::testing::TempDir()) / "raplas_bad_input_XXXXXX").string();
+        ASSERT_NE(::mkdtemp(tmpl.data()), nullptr);
+        tmp = tmpl;
+        const fs::path d = tmp / "trace";
+        fs::create_directory(d);
+        const Outcome r = run_in_child(d, {"trace", "-q", "-o", "valid.trace", "--set", "image.width=8", "--set",
+                                           "image.height=8", "--set", "builtin_detail=0"}, {});
+        ASSERT_EQ(r.code, 0) << r.err;
+        valid_trace = slurp(d / "valid.trace");
+        ASSERT_GT(valid_trace.size(), 32u);
+    }
+    void TearDown() override {
+        std::error_code ec;
+        fs::remove_all(tmp, ec);
+    }
+
+    // A case's input file (see tests/bad_input.py for the kinds).
+    void make_file(const fs::path& p, const toml::node& spec) const {
+        if (auto text = spec.value<std::string>()) {
+            std::ofstream(p, std::ios::binary) << *text;
+            return;
+        }
+        const toml::table& t = *spec.as_table();
+        if (t["dir"].value_or(false)) {
+            fs::create_directory(p);
+            return;
+        }
+        std::string data;
+        if (auto n = t["garbage"].value<std::int64_t>()) {
+            std::mt19937 rng(7);
+            for (std::int64_t i = 0; i < *n; ++i) data.push_back(char(rng() & 0xff));
+            data.push_back('\0');
+        } else {
+            data = valid_trace;
+            const std::string kind = t["trace"].value_or(std::string());
+            if (kind == "version") data[8] = 99, data[9] = data[10] = data[11] = 0;
+            else if (kind == "edited") data[data.size() / 2] = char(data[data.size() / 2] ^ 1);
+            else if (kind == "truncated") data.resize(data.size() / 2);
+            else if (kind == "appended") data += "\n";
+            else ASSERT_EQ(kind, "valid") << "unknown trace kind";
+        }
+        std::ofstream(p, std::ios::binary) << data;
+    }
+};
+
+TEST_F(BadInputTable, EveryCaseGetsItsExitCodeAndWholeStderr) {
+    const toml::table table = toml::parse_file(std::string(RAPLAS_SOURCE_DIR) + "/tests/bad_input/cases.toml");
+    const toml::array* cases = table["case"].as_array();
+    ASSERT_NE(cases, nullptr);
+    ASSERT_GT(cases->size(), 50u);
+    std::size_t i = 0;
+    for (const auto& node : *cases) {
+        const toml::table& c = *node.as_table();
+        const std::string name = c["input"].value_or(std::string()) + ": " + c["what"].value_or(std::string());
+        SCOPED_TRACE(name);
+        const fs::path dir = tmp / ("case" + std::to_string(i++));
+        fs::create_directory(dir);
+        if (const toml::table* files = c["files"].as_table())
+            for (const auto& [fname, spec] : *files) make_file(dir / std::string(fname.str()), spec);
+        std::set<std::string> before;
+        for (const auto& e : fs::directory_iterator(dir)) before.insert(e.path().filename().string());
+        std::vector<std::string> args;
+        for (const auto& a : *c["args"].as_array()) args.push_back(a.value_or(std::string()));
+        std::vector<std::pair<std::string, std::string>> env;
+        if (const toml::table* e = c["env"].as_table())
+            for (const auto& [k, v] : *e) env.emplace_back(std::string(k.str()), v.value_or(std::string()));
+
+        const Outcome r = run_in_child(dir, args, env);
+
+        const int want_code = int(c["exit"].value_or(std::int64_t(-1)));
+        EXPECT_EQ(r.code, want_code) << "stderr: " << r.err;
+        std::vector<std::string> got;
+        std::istringstream in(r.err);
+        for (std::string line; std::getline(in, line);) got.push_back(line);
+        EXPECT_TRUE(r.err.empty() || r.err.back() == '\n') << r.err;
+        const std::vector<std::string> want = expected_lines(c);
+        bool same = got.size() == want.size();
+        for (std::size_t k = 0; same && k < want.size(); ++k) same = line_matches(want[k], got[k]);
+        EXPECT_TRUE(same) << "stderr:\n" << r.err << "expected:\n" << [&] {
+            std::string s;
+            for (const auto& w : want) s += w + "\n";
+            return s;
+        }();
+        if (want_code != 0) {
+            std::vector<std::string> left;
+            for (const auto& e : fs::directory_iterator(dir))
+                if (!before.count(e.path().filename().string())) left.push_back(e.path().filename().string());
+            EXPECT_TRUE(left.empty()) << "a refused run left " << left.size() << " files, first " << left[0];
+        }
+    }
+}
+
+}  // namespace
