@@ -95,9 +95,21 @@ template <class A> inline RayA<A> load(const A& a, const Ray& ray) {
 
 // ---- Eq. 1: plane-sphere test (3 mul + 3 add, then |d| <= r) --------------
 
+// The PSI's sum ((x + y) + z) + w. An emulated format with psi_normalize off
+// uses adders without normalisation (ArithSoft::sum_unnormalized).
+template <class A>
+inline typename A::T psi_sum(const A& a, typename A::T x, typename A::T y, typename A::T z, typename A::T w) {
+    return a.add(a.add(a.add(x, y), z), w);
+}
+inline double psi_sum(const ArithSoft& a, double x, double y, double z, double w) {
+    if (a.f.psi_normalize) return a.add(a.add(a.add(x, y), z), w);
+    const double terms[4] = {x, y, z, w};
+    return a.sum_unnormalized(terms, 4);
+}
+
 template <class A>
 inline bool plane_hits_sphere(const A& a, const PlaneA<A>& p, const SphereA<A>& s) {
-    auto d = a.add(a.add(a.add(a.mul(p.nx, s.cx), a.mul(p.ny, s.cy)), a.mul(p.nz, s.cz)), p.w);
+    auto d = psi_sum(a, a.mul(p.nx, s.cx), a.mul(p.ny, s.cy), a.mul(p.nz, s.cz), p.w);
     return std::fabs(d) <= s.r;  // |.| is a sign-bit clear: exact in every format
 }
 
@@ -123,7 +135,7 @@ inline void plane_masks(const A& a, const PlaneA<A>* planes, std::uint32_t np, c
     for (std::uint32_t p = 0; p < np; ++p) {
         const PlaneA<A> pl = planes[p];
         for (std::size_t i = 0; i < count; ++i) {
-            const T d = a.add(a.add(a.add(a.mul(pl.nx, cx[i]), a.mul(pl.ny, cy[i])), a.mul(pl.nz, cz[i])), pl.w);
+            const T d = psi_sum(a, a.mul(pl.nx, cx[i]), a.mul(pl.ny, cy[i]), a.mul(pl.nz, cz[i]), pl.w);
             masks[i] |= Mask(std::fabs(d) <= r[i]) << p;
         }
     }

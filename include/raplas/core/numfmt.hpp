@@ -23,13 +23,21 @@ struct NumFormat {
     int man_bits = 23;
     Rounding rounding = Rounding::nearest_even;
     bool flush_subnormals = false;
+    // false: the Plane-Sphere Intersector's adders do not renormalise after
+    // cancellation (paper §4; see ArithSoft::sum_unnormalized). Emulated
+    // formats only; the Ray-Triangle Intersector always normalises.
+    bool psi_normalize = true;
 
     static NumFormat float64() { return {Kind::f64, 11, 52, Rounding::nearest_even, false}; }
     static NumFormat float32() { return {Kind::f32, 8, 23, Rounding::nearest_even, false}; }
-    // "float64", "float32", or "fp<S>-<E>-<M>[-rne|-rtz][-ftz]" e.g. "fp1-7-16".
-    // Throws std::invalid_argument with a one-line reason.
+    // "float64", "float32", or "fp<S>-<E>-<M>[-rne|-rtz][-ftz][-psiunnorm]"
+    // e.g. "fp1-7-16". Throws std::invalid_argument with a one-line reason.
     static NumFormat parse(const std::string& text);
     std::string name() const;
+    // Switches the PSI normalisation; float32 becomes its emulated twin
+    // fp1-8-23 when it is turned off. Throws std::invalid_argument for formats
+    // that cannot be emulated (more than 25 fraction bits).
+    void set_psi_normalize(bool on);
     int total_bits() const { return 1 + exp_bits + man_bits; }
     // Largest relative rounding error of one operation (unit roundoff).
     double unit_roundoff() const {
@@ -44,7 +52,7 @@ struct NumFormat {
     double round(double x, int residual_sign = 0) const;
     bool operator==(const NumFormat& o) const {
         return kind == o.kind && exp_bits == o.exp_bits && man_bits == o.man_bits &&
-               rounding == o.rounding && flush_subnormals == o.flush_subnormals;
+               rounding == o.rounding && flush_subnormals == o.flush_subnormals && psi_normalize == o.psi_normalize;
     }
 };
 
@@ -69,8 +77,9 @@ using ArithF64 = ArithNative<double>;
 struct ArithSoft {
     using T = double;
     NumFormat f;
-    // When false, additions keep the exponent of the larger operand (no
-    // post-normalisation after cancellation), as in the paper's PSI (§4).
+    // When false, every add() is done by an adder without normalisation
+    // (operands taken as normalised; see sum_unnormalized). The PSI uses
+    // f.psi_normalize instead, through psi_sum() in intersect.hpp.
     bool normalize_add = true;
 
     T cvt(double x) const { return f.round(x); }
@@ -79,7 +88,7 @@ struct ArithSoft {
         double bb = s - a;
         double e = (a - (s - bb)) + (b - bb);  // TwoSum: a + b == s + e exactly
         int sign = e > 0 ? 1 : (e < 0 ? -1 : 0);
-        if (!normalize_add) return add_unnormalized(a, b, s, sign);
+        if (!normalize_add) return add_unnormalized(a, b);
         return f.round(s, sign);
     }
     T sub(T a, T b) const { return add(a, -b); }
@@ -96,8 +105,20 @@ struct ArithSoft {
         return f.round(q, sign);
     }
 
-private:
-    T add_unnormalized(T a, T b, double s, int sign) const;
+
+    // x[0] + x[1] + ... + x[n-1], left to right, by an adder without
+    // normalisation. Each value carries a stored exponent E (a normalised
+    // operand: floor(log2 |x|), at least the format's minimum exponent). An
+    // addition aligns both operands to the larger E, adds exactly, shifts
+    // right by one on a carry out (E+1), and rounds to M fraction bits at
+    // that exponent, i.e. to a multiple of 2^(E-M); the result keeps E even
+    // when cancellation leaves leading zeros, so bits lost there are not
+    // recovered and later, smaller operands are rounded at the same coarse
+    // quantum. Products entering the sum are normalised (a multiplier needs
+    // at most a one-bit shift). Overflow as in round(); with flush_subnormals
+    // a result below the smallest normal at the minimum exponent becomes 0.
+    T sum_unnormalized(const T* x, int n) const;
+    T add_unnormalized(T a, T b) const;  // sum_unnormalized of {a, b}
 };
 
 }  // namespace raplas
