@@ -1,6 +1,7 @@
 #include "raplas/core/numfmt.hpp"
 
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
 
@@ -58,9 +59,8 @@ double NumFormat::max_finite() const {
     return std::ldexp(2.0 - std::ldexp(1.0, -man_bits), bias);
 }
 
-double NumFormat::round(double x, int residual_sign) const {
+double NumFormat::round_reference(double x, int residual_sign) const {
     if (kind == Kind::f64) return x;
-    if (kind == Kind::f32 && residual_sign == 0) return static_cast<double>(static_cast<float>(x));
     if (x == 0.0 || !std::isfinite(x)) return x;
     const int bias = (1 << (exp_bits - 1)) - 1;
     const int emin = 1 - bias;  // exponent of the smallest normal, as 2^emin
@@ -95,53 +95,77 @@ double NumFormat::round(double x, int residual_sign) const {
     return out;
 }
 
+namespace {
+
+// 2^k for -1022 <= k <= 1023, from its bit pattern.
+inline double pow2(int k) {
+    const std::uint64_t b = std::uint64_t(k + 1023) << 52;
+    double d;
+    std::memcpy(&d, &b, sizeof d);
+    return d;
+}
+
+}  // namespace
+
 double ArithSoft::sum_unnormalized(const double* x, int n) const {
     const int bias = (1 << (f.exp_bits - 1)) - 1;
     const int emin = 1 - bias;
+    // With at most 10 exponent bits every power of two below is a normal double.
+    const bool small_range = f.exp_bits <= 10;
+    auto p2 = [&](int k) { return small_range ? pow2(k) : std::ldexp(1.0, k); };
     constexpr int kZero = std::numeric_limits<int>::min() / 4;  // stored exponent of an unset 0
     auto expo = [&](double v) {
         if (v == 0.0) return kZero;
-        int e = 0;
-        std::frexp(v, &e);
-        return e - 1 > emin ? e - 1 : emin;
+        std::uint64_t bits;
+        std::memcpy(&bits, &v, sizeof bits);
+        int e = int((bits >> 52) & 0x7ff) - 1023;
+        if (e == -1023) {  // a subnormal double (formats with 11 exponent bits)
+            std::frexp(v, &e);
+            --e;
+        }
+        return e > emin ? e : emin;
     };
     double s = x[0];
     int es = expo(s);
     for (int i = 1; i < n; ++i) {
         const double b = x[i];
-        int e = es > expo(b) ? es : expo(b);
+        const int eb = expo(b);
+        int e = es > eb ? es : eb;
         if (e == kZero) {  // 0 + 0
             s = s + b;
             continue;
         }
         const double sd = s + b;
+        if (!std::isfinite(sd)) return sd;  // an infinite operand (overflowed product): inf or NaN
         const double bb = sd - s;
         const double err = (s - (sd - bb)) + (b - bb);  // s + b == sd + err exactly
         const bool neg = sd < 0;
         // residual in the direction of |exact sum|: +1 larger, -1 smaller
         const int rmag = err == 0 ? 0 : ((err > 0) != neg ? 1 : -1);
-        const double carry_at = std::ldexp(1.0, e + 1);
+        const double carry_at = p2(e + 1);
         if (std::fabs(sd) > carry_at || (std::fabs(sd) == carry_at && rmag >= 0)) ++e;
         const int q = e - f.man_bits;
-        const double scaled = std::ldexp(sd, -q);  // exact
-        double ip = std::trunc(scaled);
+        const double scaled = small_range ? sd * pow2(-q) : std::ldexp(sd, -q);  // exact; |scaled| <= 2^(M+1)
+        const std::int64_t ii = static_cast<std::int64_t>(scaled);                // toward zero
+        double ip = static_cast<double>(ii);
         const double frac = std::fabs(scaled - ip);
         if (f.rounding == Rounding::nearest_even) {
             bool up = false;
             if (frac > 0.5) up = true;
-            else if (frac == 0.5) up = rmag != 0 ? rmag > 0 : std::fmod(ip, 2.0) != 0.0;
+            else if (frac == 0.5) up = rmag != 0 ? rmag > 0 : (ii & 1) != 0;
             if (up) ip += neg ? -1.0 : 1.0;
         } else if (frac == 0.0 && rmag < 0) {
             ip -= neg ? -1.0 : 1.0;
         }
-        double r = std::ldexp(ip, q);
+        if (ip == 0.0) ip = neg ? -0.0 : 0.0;
+        double r = small_range ? ip * pow2(q) : std::ldexp(ip, q);
         if (std::fabs(r) > f.max_finite()) {
             r = f.rounding == Rounding::toward_zero ? (neg ? -f.max_finite() : f.max_finite())
                                                      : (neg ? -std::numeric_limits<double>::infinity()
                                                             : std::numeric_limits<double>::infinity());
             return r;
         }
-        if (std::fabs(r) >= std::ldexp(1.0, e + 1)) ++e;  // rounded up into the next binade
+        if (std::fabs(r) >= p2(e + 1)) ++e;  // rounded up into the next binade
         if (f.flush_subnormals && e == emin && r != 0.0 && std::fabs(r) < f.min_normal()) r = neg ? -0.0 : 0.0;
         s = r;
         es = e;  // kept even when r has leading zeros (or is 0)

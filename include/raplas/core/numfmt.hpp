@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <string>
 
 namespace raplas {
@@ -50,11 +51,44 @@ struct NumFormat {
     // side of x the exact value lies when x is itself an already-rounded double
     // (+1 above, -1 below, 0 exact): it makes double-then-round bit-exact.
     double round(double x, int residual_sign = 0) const;
+    // The same by scaling and truncation, for every case (round() takes a
+    // bit-level shortcut for normal results and falls back to this).
+    double round_reference(double x, int residual_sign = 0) const;
     bool operator==(const NumFormat& o) const {
         return kind == o.kind && exp_bits == o.exp_bits && man_bits == o.man_bits &&
                rounding == o.rounding && flush_subnormals == o.flush_subnormals && psi_normalize == o.psi_normalize;
     }
 };
+
+inline double NumFormat::round(double x, int residual_sign) const {
+    if (kind == Kind::f64) return x;
+    if (kind == Kind::f32 && residual_sign == 0) return static_cast<double>(static_cast<float>(x));
+    // Normal inputs whose result is normal in the format: round the double's
+    // fraction field to man_bits bits in place (a carry runs into the exponent).
+    std::uint64_t b;
+    std::memcpy(&b, &x, sizeof b);
+    const int e = int((b >> 52) & 0x7ff) - 1023;
+    const int bias = (1 << (exp_bits - 1)) - 1;
+    if (e >= 1 - bias && e <= bias && e != 1024 && e != -1023) {
+        const std::uint64_t unit = std::uint64_t(1) << (52 - man_bits);
+        const std::uint64_t low = b & (unit - 1);
+        const int rmag = (b >> 63) ? -residual_sign : residual_sign;  // +1: exact |value| is larger
+        std::uint64_t r = b - low;
+        if (rounding == Rounding::nearest_even) {
+            const std::uint64_t half = unit >> 1;
+            if (low > half || (low == half && (rmag > 0 || (rmag == 0 && (r & unit) != 0)))) r += unit;
+        } else if (low == 0 && rmag < 0) {
+            r -= unit;  // just below: the largest value under x (borrows into the exponent at a power of two)
+        }
+        const int re = int((r >> 52) & 0x7ff) - 1023;
+        if (re >= 1 - bias && re <= bias) {
+            double out;
+            std::memcpy(&out, &r, sizeof out);
+            return out;
+        }
+    }
+    return round_reference(x, residual_sign);
+}
 
 // ---- Arith policies -------------------------------------------------------
 
