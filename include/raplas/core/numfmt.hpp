@@ -155,4 +155,16 @@ struct ArithSoft {
     T add_unnormalized(T a, T b) const;  // sum_unnormalized of {a, b}
 };
 
+// Calls fn with the arithmetic policy of format f (ArithF32, ArithF64 or
+// ArithSoft) and returns its result: one generic body for every format.
+template <class Fn>
+inline decltype(auto) with_arith(const NumFormat& f, Fn&& fn) {
+    switch (f.kind) {
+        case NumFormat::Kind::f64: return fn(ArithF64{});
+        case NumFormat::Kind::custom: return fn(ArithSoft{f, true});
+        case NumFormat::Kind::f32: break;
+    }
+    return fn(ArithF32{});
+}
+
 }  // namespace raplas
