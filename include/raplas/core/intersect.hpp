@@ -107,10 +107,57 @@ inline double psi_sum(const ArithSoft& a, double x, double y, double z, double w
     return a.sum_unnormalized(terms, 4);
 }
 
+// Eq. 1 operation by operation in the format.
 template <class A>
-inline bool plane_hits_sphere(const A& a, const PlaneA<A>& p, const SphereA<A>& s) {
+inline bool plane_hits_sphere_ops(const A& a, const PlaneA<A>& p, const SphereA<A>& s) {
     auto d = psi_sum(a, a.mul(p.nx, s.cx), a.mul(p.ny, s.cy), a.mul(p.nz, s.cz), p.w);
     return std::fabs(d) <= s.r;  // |.| is a sign-bit clear: exact in every format
+}
+
+template <class A>
+inline bool plane_hits_sphere(const A& a, const PlaneA<A>& p, const SphereA<A>& s) {
+    return plane_hits_sphere_ops(a, p, s);
+}
+
+// ---- exact shortcuts for emulated formats ----------------------------------
+// An emulated operation costs nanoseconds, and most tests are far from their
+// decision. The same expression in double, with a bound on how far the
+// emulated format's result can be from it, decides those exactly; only tests
+// near the boundary (and every ray-triangle hit, for its exact t) run
+// emulated. Decisions and distances equal the operation-by-operation ones bit
+// for bit (checked by tests/unit/test_numfmt.cpp on boundary cases).
+//
+// Bound: every value in these expressions passes through at most six
+// roundings (sub, mul, sub, mul, add, add), each with relative error at most
+// 2^-M (unit roundoff, or for an adder without normalisation the quantum of
+// its larger operand, still within 2^-M of every partial sum's magnitude), so
+// the result is within 8 * 2^-M * S of the exact value, where S is the same
+// expression over absolute values; subnormal results and flushes add at most
+// the smallest normal per operation, carried through the later products. The
+// double evaluation itself errs by below 1e-15 * S. Overflow is excluded by
+// requiring S <= max_finite / 16.
+struct EmulatedBound {
+    double k = 0, eta = 0, smax = 0;
+    explicit EmulatedBound(const NumFormat& f)
+        : k(8 * std::ldexp(1.0, -f.man_bits) + 1e-15), eta(f.min_normal()), smax(f.max_finite() / 16) {}
+};
+
+// 1: certainly hit, 0: certainly missed, -1: run it emulated.
+inline int plane_sphere_shortcut(const EmulatedBound& b, double nx, double ny, double nz, double w, double cx,
+                                 double cy, double cz, double r) {
+    const double px = nx * cx, py = ny * cy, pz = nz * cz;  // exact in double (<= 26-bit significands)
+    const double d = std::fabs(((px + py) + pz) + w);
+    const double S = std::fabs(px) + std::fabs(py) + std::fabs(pz) + std::fabs(w);
+    const double B = b.k * S + 8 * b.eta;
+    if (!(S <= b.smax)) return -1;
+    if (d + B <= r) return 1;
+    if (d - B > r) return 0;
+    return -1;
+}
+
+inline bool plane_hits_sphere(const ArithSoft& a, const PlaneA<ArithSoft>& p, const SphereA<ArithSoft>& s) {
+    const int q = plane_sphere_shortcut(EmulatedBound(a.f), p.nx, p.ny, p.nz, p.w, s.cx, s.cy, s.cz, s.r);
+    return q >= 0 ? q == 1 : plane_hits_sphere_ops(a, p, s);
 }
 
 // Spheres of a format in structure-of-arrays layout, for the batched test below.
@@ -137,6 +184,24 @@ inline void plane_masks(const A& a, const PlaneA<A>* planes, std::uint32_t np, c
         for (std::size_t i = 0; i < count; ++i) {
             const T d = psi_sum(a, a.mul(pl.nx, cx[i]), a.mul(pl.ny, cy[i]), a.mul(pl.nz, cz[i]), pl.w);
             masks[i] |= Mask(std::fabs(d) <= r[i]) << p;
+        }
+    }
+}
+
+// Emulated formats: the shortcut over every sphere, the emulated test for the
+// few it leaves open.
+template <class Mask>
+inline void plane_masks(const ArithSoft& a, const PlaneA<ArithSoft>* planes, std::uint32_t np,
+                        const SphereSoA<ArithSoft>& s, std::size_t first, std::size_t count, Mask* masks) {
+    const EmulatedBound b(a.f);
+    for (std::size_t i = 0; i < count; ++i) masks[i] = 0;
+    for (std::uint32_t p = 0; p < np; ++p) {
+        const PlaneA<ArithSoft> pl = planes[p];
+        for (std::size_t j = 0; j < count; ++j) {
+            const std::size_t i = first + j;
+            int q = plane_sphere_shortcut(b, pl.nx, pl.ny, pl.nz, pl.w, s.cx[i], s.cy[i], s.cz[i], s.r[i]);
+            if (q < 0) q = plane_hits_sphere_ops(a, pl, SphereA<ArithSoft>{s.cx[i], s.cy[i], s.cz[i], s.r[i]});
+            masks[j] |= Mask(q) << p;
         }
     }
 }
@@ -187,7 +252,7 @@ inline void group_sphere_hits(const A& a, const PlaneA<A>* planes, std::uint32_t
 // neither; docs/MODEL.md. Returns true and t = t'/det when the hit lies in
 // (tmin, tmax). Operation count: 18 mul, 15 add/sub, 1 div (only on a hit).
 template <class A>
-inline bool ray_hits_triangle(const A& a, const RayA<A>& r, const TriA<A>& tr, double& t_out) {
+inline bool ray_hits_triangle_ops(const A& a, const RayA<A>& r, const TriA<A>& tr, double& t_out) {
     using T = typename A::T;
     const T tx = a.sub(r.o[0], tr.v0[0]), ty = a.sub(r.o[1], tr.v0[1]), tz = a.sub(r.o[2], tr.v0[2]);
     const T cx = a.sub(a.mul(r.d[1], tz), a.mul(r.d[2], ty));
@@ -210,6 +275,50 @@ inline bool ray_hits_triangle(const A& a, const RayA<A>& r, const TriA<A>& tr, d
     if (!(t > r.tmin) || !(t < r.tmax)) return false;
     t_out = static_cast<double>(t);
     return true;
+}
+
+template <class A>
+inline bool ray_hits_triangle(const A& a, const RayA<A>& r, const TriA<A>& tr, double& t_out) {
+    return ray_hits_triangle_ops(a, r, tr, t_out);
+}
+
+// true when Eq. 2 in the emulated format certainly rejects the pair (see
+// EmulatedBound); false: run it emulated.
+inline bool ray_triangle_certain_miss(const EmulatedBound& b, const RayA<ArithSoft>& r, const TriA<ArithSoft>& tr) {
+    double t[3], ta[3], dmax = 0, e1max = 0, e2max = 0;
+    for (int i = 0; i < 3; ++i) {
+        t[i] = r.o[i] - tr.v0[i];
+        ta[i] = std::fabs(r.o[i]) + std::fabs(tr.v0[i]);
+        dmax = std::max(dmax, std::fabs(r.d[i]));
+        e1max = std::max(e1max, std::fabs(tr.e1[i]));
+        e2max = std::max(e2max, std::fabs(tr.e2[i]));
+    }
+    const double* d = r.d;
+    const double c[3] = {d[1] * t[2] - d[2] * t[1], d[2] * t[0] - d[0] * t[2], d[0] * t[1] - d[1] * t[0]};
+    const double ca[3] = {std::fabs(d[1]) * ta[2] + std::fabs(d[2]) * ta[1], std::fabs(d[2]) * ta[0] + std::fabs(d[0]) * ta[2],
+                          std::fabs(d[0]) * ta[1] + std::fabs(d[1]) * ta[0]};
+    const double det = d[0] * tr.n[0] + d[1] * tr.n[1] + d[2] * tr.n[2];
+    const double deta = std::fabs(d[0] * tr.n[0]) + std::fabs(d[1] * tr.n[1]) + std::fabs(d[2] * tr.n[2]);
+    const double u = c[0] * tr.e2[0] + c[1] * tr.e2[1] + c[2] * tr.e2[2];
+    const double ua = ca[0] * std::fabs(tr.e2[0]) + ca[1] * std::fabs(tr.e2[1]) + ca[2] * std::fabs(tr.e2[2]);
+    const double v = -(c[0] * tr.e1[0] + c[1] * tr.e1[1] + c[2] * tr.e1[2]);
+    const double va = ca[0] * std::fabs(tr.e1[0]) + ca[1] * std::fabs(tr.e1[1]) + ca[2] * std::fabs(tr.e1[2]);
+    const double big = std::max(std::max(std::max(ua, va), std::max(deta, ca[0] + ca[1] + ca[2])), ta[0] + ta[1] + ta[2]);
+    if (!(big <= b.smax)) return false;  // may overflow (or NaN)
+    // absolute errors from underflow, carried through the later products
+    const double tiny = 16 * b.eta * (1 + dmax) * (1 + std::max(e1max, e2max)) * 4;
+    const double bd = b.k * deta + tiny, bu = b.k * ua + tiny, bv = b.k * va + tiny;
+    if (!(std::fabs(det) > bd)) return false;  // sign of det, or det = 0, undecided
+    const double s = det > 0 ? 1.0 : -1.0;
+    const double uu = s * u, vv = s * v, dd = std::fabs(det);
+    if (uu + bu < 0 || vv + bv < 0) return true;
+    // u' + v' <= det in the format: u' + v' is rounded once more
+    return (uu + vv) - dd > bu + bv + bd + b.k * (ua + va);
+}
+
+inline bool ray_hits_triangle(const ArithSoft& a, const RayA<ArithSoft>& r, const TriA<ArithSoft>& tr, double& t_out) {
+    if (ray_triangle_certain_miss(EmulatedBound(a.f), r, tr)) return false;
+    return ray_hits_triangle_ops(a, r, tr, t_out);
 }
 
 }  // namespace raplas
