@@ -82,7 +82,7 @@ TEST(EmulationShortcuts, RayTriangleResultsEqualTheEmulation) {
     for (const char* name : kFormats) {
         const ArithSoft a{NumFormat::parse(name), true};
         Rng rng(8);
-        int certain = 0, emulated = 0, hits = 0;
+        int certain_miss = 0, certain_inside = 0, emulated = 0, hits = 0;
         for (int i = 0; i < 40000; ++i) {
             const double sc = scale(rng, a.f);
             const Vec3d p0 = Vec3d{uni(rng, -1, 1), uni(rng, -1, 1), uni(rng, -1, 1)} * sc;
@@ -106,10 +106,12 @@ TEST(EmulationShortcuts, RayTriangleResultsEqualTheEmulation) {
             ASSERT_EQ(got, want) << name << " case " << i;
             ASSERT_EQ(t_got, t_want) << name << " case " << i;
             hits += want;
-            (ray_triangle_certain_miss(EmulatedBound(a.f), ra, ta) ? certain : emulated) += 1;
+            const int q = ray_triangle_shortcut(EmulatedBound(a.f), ra, ta);
+            (q == 0 ? certain_miss : q == 1 ? certain_inside : emulated) += 1;
         }
         if (a.f.man_bits >= 10) {
-            EXPECT_GT(certain, 2000) << name;
+            EXPECT_GT(certain_miss, 2000) << name;
+            EXPECT_GT(certain_inside, 50) << name;
             EXPECT_GT(emulated, 5000) << name;
             EXPECT_GT(hits, 1000) << name;
         }

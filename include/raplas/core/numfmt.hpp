@@ -63,6 +63,7 @@ struct NumFormat {
 inline double NumFormat::round(double x, int residual_sign) const {
     if (kind == Kind::f64) return x;
     if (kind == Kind::f32 && residual_sign == 0) return static_cast<double>(static_cast<float>(x));
+    if (x == 0.0) return x;  // exact (and the residual of an exact zero sum is zero)
     // Normal inputs whose result is normal in the format: round the double's
     // fraction field to man_bits bits in place (a carry runs into the exponent).
     std::uint64_t b;
