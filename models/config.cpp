@@ -32,7 +32,10 @@ ParamSet machine_params() {
     p.add_int("workload.shadow_group_size", 0, 0, 64, "shadow ray group size (0 = the scene's groups.shadow_size)");
     p.add_int("workload.triangles_per_sphere", 0, 0, 64, "triangles per sphere (0 = the scene's value)");
     p.add_string("numerics.format", std::string("float32"),
-                 "number format of the intersectors: float32, float64, fp1-E-M[-rtz]");
+                 "number format of the intersectors: float32, float64, fp1-E-M[-rtz][-ftz][-psiunnorm]");
+    p.add_bool("numerics.psi_normalize", true,
+               "false: the Plane-Sphere Intersector's adders do not renormalise (paper §4; same as the format "
+               "suffix -psiunnorm; emulated, so float32 runs as fp1-8-23)");
     p.add_string("sim.functional", std::string("compute"),
                  "compute = intersectors compute with the math library (hits checked against the front end); "
                  "trace = plane-hit masks taken from the trace (faster, hits not checked)",
@@ -88,6 +91,17 @@ SimConfig config_from_params(const ParamSet& p) {
         c.format = NumFormat::parse(p.get_string("numerics.format"));
     } catch (const std::invalid_argument& e) {
         throw InputError(p.origin("numerics.format") + ": " + e.what());
+    }
+    if (p.is_given("numerics.psi_normalize")) {
+        const bool on = p.get_bool("numerics.psi_normalize");
+        if (on && !c.format.psi_normalize)
+            throw InputError(p.origin("numerics.psi_normalize") + ": true contradicts numerics.format '" +
+                             c.format.name() + "'");
+        try {
+            c.format.set_psi_normalize(on);
+        } catch (const std::invalid_argument& e) {
+            throw InputError(p.origin("numerics.psi_normalize") + ": " + e.what());
+        }
     }
     c.functional = p.get_string("sim.functional") == "trace" ? FunctionalMode::trace : FunctionalMode::compute;
     c.cull = p.get_bool("sim.cull");

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "raplas/core/numfmt.hpp"
@@ -95,10 +96,80 @@ template <class A> inline RayA<A> load(const A& a, const Ray& ray) {
 
 // ---- Eq. 1: plane-sphere test (3 mul + 3 add, then |d| <= r) --------------
 
+// The PSI's sum ((x + y) + z) + w. An emulated format with psi_normalize off
+// uses adders without normalisation (ArithSoft::sum_unnormalized).
+template <class A>
+inline typename A::T psi_sum(const A& a, typename A::T x, typename A::T y, typename A::T z, typename A::T w) {
+    return a.add(a.add(a.add(x, y), z), w);
+}
+inline double psi_sum(const ArithSoft& a, double x, double y, double z, double w) {
+    if (a.f.psi_normalize) return a.add(a.add(a.add(x, y), z), w);
+    const double terms[4] = {x, y, z, w};
+    return a.sum_unnormalized(terms, 4);
+}
+
+// Eq. 1 operation by operation in the format.
+template <class A>
+inline bool plane_hits_sphere_ops(const A& a, const PlaneA<A>& p, const SphereA<A>& s) {
+    auto d = psi_sum(a, a.mul(p.nx, s.cx), a.mul(p.ny, s.cy), a.mul(p.nz, s.cz), p.w);
+    return std::fabs(d) <= s.r;  // |.| is a sign-bit clear: exact in every format
+}
+
 template <class A>
 inline bool plane_hits_sphere(const A& a, const PlaneA<A>& p, const SphereA<A>& s) {
-    auto d = a.add(a.add(a.add(a.mul(p.nx, s.cx), a.mul(p.ny, s.cy)), a.mul(p.nz, s.cz)), p.w);
-    return std::fabs(d) <= s.r;  // |.| is a sign-bit clear: exact in every format
+    return plane_hits_sphere_ops(a, p, s);
+}
+
+// ---- exact shortcuts for emulated formats ----------------------------------
+// An emulated operation costs nanoseconds, and most tests are far from their
+// decision. The same expression in double, with a bound on how far the
+// emulated format's result can be from it, decides those exactly; only tests
+// near the boundary (and every ray-triangle hit, for its exact t) run
+// emulated. Decisions and distances equal the operation-by-operation ones bit
+// for bit (checked by tests/unit/test_numfmt.cpp on boundary cases).
+//
+// Bound: every value in these expressions passes through at most six
+// roundings (sub, mul, sub, mul, add, add), each with relative error at most
+// 2^-M (unit roundoff, or for an adder without normalisation the quantum of
+// its larger operand, still within 2^-M of every partial sum's magnitude), so
+// the result is within 8 * 2^-M * S of the exact value, where S is the same
+// expression over absolute values; subnormal results and flushes add at most
+// the smallest normal per operation, carried through the later products. The
+// double evaluation itself errs by below 1e-15 * S. Overflow is excluded by
+// requiring S <= max_finite / 16.
+struct EmulatedBound {
+    double k = 0, eta = 0, smax = 0;
+    explicit EmulatedBound(const NumFormat& f) {
+        // powers of two from their bit patterns (cheap: built for every test)
+        auto pow2 = [](int e) {
+            const std::uint64_t b = std::uint64_t(e + 1023) << 52;
+            double d;
+            std::memcpy(&d, &b, sizeof d);
+            return d;
+        };
+        const int bias = (1 << (f.exp_bits - 1)) - 1;
+        k = 8 * pow2(-f.man_bits) + 1e-15;
+        eta = pow2(1 - bias);                 // smallest normal
+        smax = pow2(bias - 4);                // below max_finite / 16
+    }
+};
+
+// 1: certainly hit, 0: certainly missed, -1: run it emulated.
+inline int plane_sphere_shortcut(const EmulatedBound& b, double nx, double ny, double nz, double w, double cx,
+                                 double cy, double cz, double r) {
+    const double px = nx * cx, py = ny * cy, pz = nz * cz;  // exact in double (<= 26-bit significands)
+    const double d = std::fabs(((px + py) + pz) + w);
+    const double S = std::fabs(px) + std::fabs(py) + std::fabs(pz) + std::fabs(w);
+    const double B = b.k * S + 8 * b.eta;
+    if (!(S <= b.smax)) return -1;
+    if (d + B <= r) return 1;
+    if (d - B > r) return 0;
+    return -1;
+}
+
+inline bool plane_hits_sphere(const ArithSoft& a, const PlaneA<ArithSoft>& p, const SphereA<ArithSoft>& s) {
+    const int q = plane_sphere_shortcut(EmulatedBound(a.f), p.nx, p.ny, p.nz, p.w, s.cx, s.cy, s.cz, s.r);
+    return q >= 0 ? q == 1 : plane_hits_sphere_ops(a, p, s);
 }
 
 // Spheres of a format in structure-of-arrays layout, for the batched test below.
@@ -123,8 +194,83 @@ inline void plane_masks(const A& a, const PlaneA<A>* planes, std::uint32_t np, c
     for (std::uint32_t p = 0; p < np; ++p) {
         const PlaneA<A> pl = planes[p];
         for (std::size_t i = 0; i < count; ++i) {
-            const T d = a.add(a.add(a.add(a.mul(pl.nx, cx[i]), a.mul(pl.ny, cy[i])), a.mul(pl.nz, cz[i])), pl.w);
+            const T d = psi_sum(a, a.mul(pl.nx, cx[i]), a.mul(pl.ny, cy[i]), a.mul(pl.nz, cz[i]), pl.w);
             masks[i] |= Mask(std::fabs(d) <= r[i]) << p;
+        }
+    }
+}
+
+// Emulated formats: the shortcut over every sphere (branch-free, so it
+// vectorises like the native formats), then the emulated test for the few
+// plane-sphere pairs it leaves open. Formats whose values are all float32
+// values (at most 8 exponent and 23 fraction bits) evaluate the shortcut in
+// float32, four spheres per vector, with the float32 evaluation's own error
+// (below 2^-19 * S over these few operations, rounding of the comparison
+// sums included) added to the bound.
+template <class Mask>
+inline void plane_masks(const ArithSoft& a, const PlaneA<ArithSoft>* planes, std::uint32_t np,
+                        const SphereSoA<ArithSoft>& s, std::size_t first, std::size_t count, Mask* masks) {
+    constexpr std::size_t kBlock = 256;
+    const EmulatedBound b(a.f);
+    const bool in_float = a.f.exp_bits <= 8 && a.f.man_bits <= 23;
+    const float kf = float(b.k + std::ldexp(1.0, -19));
+    const float etaf = float(8 * std::max(b.eta, double(std::ldexp(1.0f, -126))));
+    const float smaxf = float(std::min(b.smax, 1e37));
+    for (std::size_t start = 0; start < count; start += kBlock) {
+        const std::size_t n = std::min(kBlock, count - start);
+        const double* cx = s.cx.data() + first + start;
+        const double* cy = s.cy.data() + first + start;
+        const double* cz = s.cz.data() + first + start;
+        const double* r = s.r.data() + first + start;
+        Mask* m = masks + start;
+        Mask open[kBlock];
+        for (std::size_t i = 0; i < n; ++i) m[i] = open[i] = 0;
+        if (in_float) {
+            float fx[kBlock], fy[kBlock], fz[kBlock], fr[kBlock];  // exact copies
+            for (std::size_t i = 0; i < n; ++i) {
+                fx[i] = float(cx[i]);
+                fy[i] = float(cy[i]);
+                fz[i] = float(cz[i]);
+                fr[i] = float(r[i]);
+            }
+            for (std::uint32_t p = 0; p < np; ++p) {
+                const float nx = float(planes[p].nx), ny = float(planes[p].ny), nz = float(planes[p].nz),
+                            w = float(planes[p].w);
+                for (std::size_t i = 0; i < n; ++i) {
+                    const float px = nx * fx[i], py = ny * fy[i], pz = nz * fz[i];
+                    const float d = std::fabs(((px + py) + pz) + w);
+                    const float S = std::fabs(px) + std::fabs(py) + std::fabs(pz) + std::fabs(w);
+                    const float B = kf * S + etaf;
+                    const bool ok = S <= smaxf;
+                    const bool hit = ok & (d + B <= fr[i]);
+                    const bool miss = ok & (d - B > fr[i]);
+                    m[i] |= Mask(hit) << p;
+                    open[i] |= Mask(!hit & !miss) << p;
+                }
+            }
+        } else {
+            for (std::uint32_t p = 0; p < np; ++p) {
+                const PlaneA<ArithSoft> pl = planes[p];
+                for (std::size_t i = 0; i < n; ++i) {  // plane_sphere_shortcut, without branches
+                    const double px = pl.nx * cx[i], py = pl.ny * cy[i], pz = pl.nz * cz[i];
+                    const double d = std::fabs(((px + py) + pz) + pl.w);
+                    const double S = std::fabs(px) + std::fabs(py) + std::fabs(pz) + std::fabs(pl.w);
+                    const double B = b.k * S + 8 * b.eta;
+                    const bool ok = S <= b.smax;
+                    const bool hit = ok & (d + B <= r[i]);
+                    const bool miss = ok & (d - B > r[i]);
+                    m[i] |= Mask(hit) << p;
+                    open[i] |= Mask(!hit & !miss) << p;
+                }
+            }
+        }
+        for (std::size_t i = 0; i < n; ++i) {
+            if (!open[i]) continue;
+            const SphereA<ArithSoft> sp{cx[i], cy[i], cz[i], r[i]};
+            for (Mask o = open[i]; o; o &= o - 1) {
+                const unsigned p = unsigned(__builtin_ctzll(std::uint64_t(o)));
+                m[i] |= Mask(plane_hits_sphere_ops(a, planes[p], sp)) << p;
+            }
         }
     }
 }
@@ -175,7 +321,7 @@ inline void group_sphere_hits(const A& a, const PlaneA<A>* planes, std::uint32_t
 // neither; docs/MODEL.md. Returns true and t = t'/det when the hit lies in
 // (tmin, tmax). Operation count: 18 mul, 15 add/sub, 1 div (only on a hit).
 template <class A>
-inline bool ray_hits_triangle(const A& a, const RayA<A>& r, const TriA<A>& tr, double& t_out) {
+inline bool ray_hits_triangle_ops(const A& a, const RayA<A>& r, const TriA<A>& tr, double& t_out) {
     using T = typename A::T;
     const T tx = a.sub(r.o[0], tr.v0[0]), ty = a.sub(r.o[1], tr.v0[1]), tz = a.sub(r.o[2], tr.v0[2]);
     const T cx = a.sub(a.mul(r.d[1], tz), a.mul(r.d[2], ty));
@@ -197,6 +343,67 @@ inline bool ray_hits_triangle(const A& a, const RayA<A>& r, const TriA<A>& tr, d
     const T t = a.div(tp, det);
     if (!(t > r.tmin) || !(t < r.tmax)) return false;
     t_out = static_cast<double>(t);
+    return true;
+}
+
+template <class A>
+inline bool ray_hits_triangle(const A& a, const RayA<A>& r, const TriA<A>& tr, double& t_out) {
+    return ray_hits_triangle_ops(a, r, tr, t_out);
+}
+
+// Eq. 2 in an emulated format decided from double (see EmulatedBound):
+// 0 when the format certainly rejects the pair on u', v' or det, 1 when it
+// certainly finds it inside (u' >= 0, v' >= 0, u' + v' <= det), -1 otherwise.
+inline int ray_triangle_shortcut(const EmulatedBound& b, const RayA<ArithSoft>& r, const TriA<ArithSoft>& tr) {
+    double t[3], ta[3], dmax = 0, e1max = 0, e2max = 0;
+    for (int i = 0; i < 3; ++i) {
+        t[i] = r.o[i] - tr.v0[i];
+        ta[i] = std::fabs(r.o[i]) + std::fabs(tr.v0[i]);
+        dmax = std::max(dmax, std::fabs(r.d[i]));
+        e1max = std::max(e1max, std::fabs(tr.e1[i]));
+        e2max = std::max(e2max, std::fabs(tr.e2[i]));
+    }
+    const double* d = r.d;
+    const double c[3] = {d[1] * t[2] - d[2] * t[1], d[2] * t[0] - d[0] * t[2], d[0] * t[1] - d[1] * t[0]};
+    const double ca[3] = {std::fabs(d[1]) * ta[2] + std::fabs(d[2]) * ta[1], std::fabs(d[2]) * ta[0] + std::fabs(d[0]) * ta[2],
+                          std::fabs(d[0]) * ta[1] + std::fabs(d[1]) * ta[0]};
+    const double det = d[0] * tr.n[0] + d[1] * tr.n[1] + d[2] * tr.n[2];
+    const double deta = std::fabs(d[0] * tr.n[0]) + std::fabs(d[1] * tr.n[1]) + std::fabs(d[2] * tr.n[2]);
+    const double u = c[0] * tr.e2[0] + c[1] * tr.e2[1] + c[2] * tr.e2[2];
+    const double ua = ca[0] * std::fabs(tr.e2[0]) + ca[1] * std::fabs(tr.e2[1]) + ca[2] * std::fabs(tr.e2[2]);
+    const double v = -(c[0] * tr.e1[0] + c[1] * tr.e1[1] + c[2] * tr.e1[2]);
+    const double va = ca[0] * std::fabs(tr.e1[0]) + ca[1] * std::fabs(tr.e1[1]) + ca[2] * std::fabs(tr.e1[2]);
+    const double big = std::max(std::max(std::max(ua, va), std::max(deta, ca[0] + ca[1] + ca[2])), ta[0] + ta[1] + ta[2]);
+    if (!(big <= b.smax)) return -1;  // may overflow (or NaN)
+    // absolute errors from underflow, carried through the later products
+    const double tiny = 64 * b.eta * (1 + dmax) * (1 + std::max(e1max, e2max));
+    const double bd = b.k * deta + tiny, bu = b.k * ua + tiny, bv = b.k * va + tiny;
+    if (!(std::fabs(det) > bd)) return -1;  // sign of det, or det = 0, undecided
+    const double s = det > 0 ? 1.0 : -1.0;
+    const double uu = s * u, vv = s * v, dd = std::fabs(det);
+    if (uu + bu < 0 || vv + bv < 0) return 0;
+    // u' + v' <= det in the format: u' + v' is rounded once more
+    const double bsum = bu + bv + bd + b.k * (ua + va);
+    if ((uu + vv) - dd > bsum) return 0;
+    if (uu - bu >= 0 && vv - bv >= 0 && (uu + vv) - dd + bsum <= 0) return 1;
+    return -1;
+}
+
+inline bool ray_hits_triangle(const ArithSoft& a, const RayA<ArithSoft>& r, const TriA<ArithSoft>& tr, double& t_out) {
+    const int q = ray_triangle_shortcut(EmulatedBound(a.f), r, tr);
+    if (q == 0) return false;
+    if (q < 0) return ray_hits_triangle_ops(a, r, tr, t_out);
+    // Certainly inside: only det and t' decide, computed exactly as in ray_hits_triangle_ops.
+    double det = a.add(a.add(a.mul(r.d[0], tr.n[0]), a.mul(r.d[1], tr.n[1])), a.mul(r.d[2], tr.n[2]));
+    const double tx = a.sub(r.o[0], tr.v0[0]), ty = a.sub(r.o[1], tr.v0[1]), tz = a.sub(r.o[2], tr.v0[2]);
+    double tp = -a.add(a.add(a.mul(tr.n[0], tx), a.mul(tr.n[1], ty)), a.mul(tr.n[2], tz));
+    if (det < 0) {
+        det = -det;
+        tp = -tp;
+    }
+    const double t = a.div(tp, det);
+    if (!(t > r.tmin) || !(t < r.tmax)) return false;
+    t_out = t;
     return true;
 }
 

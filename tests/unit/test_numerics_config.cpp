@@ -1,0 +1,51 @@
+// The machine config keys of the intersectors' numerics (numerics.format,
+// numerics.psi_normalize) and how they combine.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "config.hpp"
+#include "raplas/util/error.hpp"
+
+namespace {
+
+using raplas::NumFormat;
+
+raplas::model::SimConfig config_with(std::initializer_list<std::string> sets) {
+    raplas::ParamSet p = raplas::model::machine_params();
+    for (const auto& s : sets) p.set(s);
+    return raplas::model::config_from_params(p);
+}
+
+std::string error_of(std::initializer_list<std::string> sets) {
+    try {
+        config_with(sets);
+    } catch (const raplas::InputError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+TEST(NumericsConfig, FormatAndPsiNormalisationCombine) {
+    EXPECT_EQ(config_with({}).format, NumFormat::float32());
+    EXPECT_EQ(config_with({"numerics.format=fp1-7-16"}).format.name(), "fp1-7-16");
+    EXPECT_EQ(config_with({"numerics.format=fp1-7-16", "numerics.psi_normalize=false"}).format.name(),
+              "fp1-7-16-psiunnorm");
+    EXPECT_EQ(config_with({"numerics.format=fp1-7-16-psiunnorm"}).format.name(), "fp1-7-16-psiunnorm");
+    EXPECT_EQ(config_with({"numerics.format=fp1-7-16", "numerics.psi_normalize=true"}).format.name(), "fp1-7-16");
+    // float32 without PSI normalisation runs emulated with float32's widths
+    const NumFormat f = config_with({"numerics.psi_normalize=false"}).format;
+    EXPECT_EQ(f.kind, NumFormat::Kind::custom);
+    EXPECT_EQ(f.name(), "fp1-8-23-psiunnorm");
+}
+
+TEST(NumericsConfig, ContradictionsNameTheKey) {
+    EXPECT_NE(error_of({"numerics.format=float64", "numerics.psi_normalize=false"}).find("numerics.psi_normalize"),
+              std::string::npos);
+    EXPECT_NE(error_of({"numerics.format=fp1-7-16-psiunnorm", "numerics.psi_normalize=true"})
+                  .find("numerics.psi_normalize"),
+              std::string::npos);
+    EXPECT_NE(error_of({"numerics.format=fp1-7"}).find("numerics.format"), std::string::npos);
+}
+
+}  // namespace
