@@ -54,6 +54,34 @@ def read_table(path):
     return list(csv.DictReader(io.StringIO("".join(lines))))
 
 
+def write_table(path, header, rows, fields):
+    """Writes rows (dicts) under a comment header, atomically."""
+    buf = io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=fields, lineterminator="\n")
+    w.writeheader()
+    w.writerows(rows)
+    tmp = path + ".tmp"
+    with open(tmp, "w") as f:
+        f.write(header + buf.getvalue())
+    os.replace(tmp, path)
+
+
+def compare_table(tag, name, rows, want, where):
+    """Prints every cell of `want` that `rows` does not reproduce; returns the
+    number of mismatching rows (a row count mismatch counts as one)."""
+    if len(want) != len(rows):
+        print(f"{tag}: {name}: {len(rows)} rows, table has {len(want)}")
+        return 1
+    failures = 0
+    for got, exp in zip(rows, want):
+        diff = [c for c in exp if got.get(c) != exp[c]]
+        if diff:
+            failures += 1
+            print(f"{tag}: {name} {where(exp)}: " + ", ".join(f"{c} {got.get(c)} != {exp[c]}" for c in diff))
+    print(f"{tag}: {name}: {len(rows)} rows checked")
+    return failures
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--raplas", required=True)
@@ -70,28 +98,11 @@ def main():
         rows = table_rows(a.raplas, name)
         path = os.path.join(GOLDEN, name + ".csv")
         if a.regen:
-            buf = io.StringIO()
-            w = csv.DictWriter(buf, fieldnames=list(rows[0].keys()), lineterminator="\n")
-            w.writeheader()
-            w.writerows(rows)
-            tmp = path + ".tmp"
-            with open(tmp, "w") as f:
-                f.write(HEADER + buf.getvalue())
-            os.replace(tmp, path)
+            write_table(path, HEADER, rows, list(rows[0].keys()))
             print(f"golden: wrote {path} ({len(rows)} rows)")
             continue
-        want = read_table(path)
-        if len(want) != len(rows):
-            print(f"golden: {name}: {len(rows)} rows, table has {len(want)}")
-            failures += 1
-            continue
-        for got, exp in zip(rows, want):
-            diff = [c for c in exp if got.get(c) != exp[c]]
-            if diff:
-                failures += 1
-                where = f"iccs={exp['iccs']} fifo={exp['fifo_depth']}"
-                print(f"golden: {name} {where}: " + ", ".join(f"{c} {got.get(c)} != {exp[c]}" for c in diff))
-        print(f"golden: {name}: {len(rows)} points checked")
+        failures += compare_table("golden", name, rows, read_table(path),
+                                  lambda e: f"iccs={e['iccs']} fifo={e['fifo_depth']}")
     if failures:
         sys.exit(f"golden: {failures} mismatching points (tools/golden.py --regen rewrites the tables after an intended change)")
 

@@ -14,11 +14,13 @@ Every column of the table must match. Tables are only ever written by --regen.
 """
 import argparse
 import csv
-import io
 import os
 import subprocess
 import sys
 import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from golden import compare_table, read_table, write_table  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 GOLDEN = os.path.join(ROOT, "tests", "golden")
@@ -61,12 +63,6 @@ def run_sweeps(raplas, name, jobs):
     return rows
 
 
-def read_table(path):
-    with open(path) as f:
-        lines = [l for l in f if not l.startswith("#")]
-    return list(csv.DictReader(io.StringIO("".join(lines))))
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--raplas", required=True)
@@ -84,29 +80,11 @@ def main():
         rows = run_sweeps(a.raplas, name, a.jobs)
         path = os.path.join(GOLDEN, name + ".csv")
         if a.regen:
-            buf = io.StringIO()
-            fields = ["variant"] + [k for k in rows[0] if k != "variant"]
-            w = csv.DictWriter(buf, fieldnames=fields, lineterminator="\n")
-            w.writeheader()
-            w.writerows(rows)
-            tmp = path + ".tmp"
-            with open(tmp, "w") as f:
-                f.write(HEADER + buf.getvalue())
-            os.replace(tmp, path)
+            write_table(path, HEADER, rows, ["variant"] + [k for k in rows[0] if k != "variant"])
             print(f"golden_sweep: wrote {path} ({len(rows)} rows)")
             continue
-        want = read_table(path)
-        if len(want) != len(rows):
-            print(f"golden_sweep: {name}: {len(rows)} rows, table has {len(want)}")
-            failures += 1
-            continue
-        for got, exp in zip(rows, want):
-            diff = [c for c in exp if got.get(c) != exp[c]]
-            if diff:
-                failures += 1
-                where = f"{exp['variant']} iccs={exp['iccs']} fifo={exp['fifo_depth']}"
-                print(f"golden_sweep: {name} {where}: " + ", ".join(f"{c} {got.get(c)} != {exp[c]}" for c in diff))
-        print(f"golden_sweep: {name}: {len(rows)} rows checked")
+        failures += compare_table("golden_sweep", name, rows, read_table(path),
+                                  lambda e: f"{e['variant']} iccs={e['iccs']} fifo={e['fifo_depth']}")
     if failures:
         sys.exit(f"golden_sweep: {failures} mismatching rows "
                  "(tools/golden_sweep.py --regen rewrites the tables after an intended change)")
