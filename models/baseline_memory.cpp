@@ -223,6 +223,7 @@ SimResult simulate_system(const Trace& t, const SimConfig& cfg, MemoryStats& sta
     if (cfg.memory.system == MemorySystem::streaming) {
         SimResult r = simulate(t, cfg, opt);
         stats = MemoryStats{};
+        if (!r.error.empty()) return r;  // the caller reports it
         streaming_bounds(t, cfg, r, stats);
         return r;
     }
@@ -239,6 +240,7 @@ SimResult simulate_system(const Trace& t, const SimConfig& cfg, MemoryStats& sta
         SimOptions o;
         o.progress = opt.progress;
         const SimResult r1 = simulate(t, one, o);
+        if (!r1.error.empty()) return r1;
         std::vector<std::uint64_t> cycles = r1.pass_cycles;
         SimResult r = baseline_result(t, cfg, stats, &cycles);
         r.model_wall_s = r1.model_wall_s;

@@ -373,7 +373,8 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p) {
         std::sort(full_now.begin(), full_now.end());
         ++cycle;
         if (!sphere_link.has_record() && !triangle_link.has_record() && selecting.empty() && max_done < cycle) break;
-        if (++since_sync_ >= cfg_.sync_cycles) sync_time(cycle, watch, max_done, [&] { return views(cycle); });
+        if (++since_sync_ >= cfg_.sync_cycles && !sync_time(cycle, watch, max_done, [&] { return views(cycle); }))
+            return cycle;
     }
     for (std::size_t k = 0; k < na; ++k)
         if (role[k] == ref) adopt_reference(k);

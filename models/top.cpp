@@ -174,7 +174,7 @@ void Top::broadcast(bool s_has, bool s_ok, bool t_has, bool t_ok, std::int64_t& 
     }
 }
 
-void Top::sync_time(std::uint64_t cycle, Watch& w, std::uint64_t extra_progress,
+bool Top::sync_time(std::uint64_t cycle, Watch& w, std::uint64_t extra_progress,
                     const std::function<std::vector<IccView>()>& views) {
     wait(period_ * double(since_sync_));
     since_sync_ = 0;
@@ -183,8 +183,10 @@ void Top::sync_time(std::uint64_t cycle, Watch& w, std::uint64_t extra_progress,
         w.signature = sig;
         w.changed_at = cycle;
     } else if (cycle - w.changed_at >= cfg_.watchdog_cycles) {
-        throw std::runtime_error(stuck_report(cycle, views()));
+        error_ = stuck_report(cycle, views());
+        return false;
     }
+    return true;
 }
 
 std::uint64_t Top::run_pass(const Host::Pass& p) {
@@ -231,13 +233,13 @@ std::uint64_t Top::run_pass(const Host::Pass& p) {
             for (Icc* c : active) drained = drained && c->drained();
             if (drained) break;
         }
-        if (++since_sync_ >= cfg_.sync_cycles)
-            sync_time(cycle, watch, 0, [&] {
+        if (++since_sync_ >= cfg_.sync_cycles && !sync_time(cycle, watch, 0, [&] {
                 std::vector<IccView> v;
                 for (std::size_t k = 0; k < iccs.size(); ++k)
                     if (iccs[k].active()) v.push_back(view_of(iccs[k], k));
                 return v;
-            });
+            }))
+            return cycle;
     }
     for (auto& icc : iccs)
         if (!icc.active()) icc.add_idle(cycle);
@@ -325,6 +327,7 @@ void Top::run() {
             if (vcd_) vcd_->pass = std::uint32_t(i);
             preload(passes[i]);
             std::uint64_t c = event_mode_ ? run_pass_event(passes[i]) : run_pass(passes[i]);
+            if (!error_.empty()) break;  // the watchdog fired
             pass_len_ = c;
             check_pass(passes[i]);
             c += cfg_.pass_overhead_cycles;
@@ -358,10 +361,10 @@ SimResult simulate(const Trace& trace, const SimConfig& cfg, const SimOptions& o
     SimResult r = top->result();
     r.model_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (!top->error().empty()) {
-        std::string err = top->error();
+        r.error = top->error();
         top.reset();
         if (!opt.vcd_path.empty()) std::remove(opt.vcd_path.c_str());
-        throw std::runtime_error(err);
+        return r;
     }
     r.host = top->host.stats();
     r.sphere_link = top->sphere_link.stats();

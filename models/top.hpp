@@ -45,6 +45,11 @@ struct SimResult {
     bool functional_match = false;
     std::uint64_t rays_checked = 0, rays_mismatched = 0;
     double model_wall_s = 0;  // wall time of the timing model alone
+    // Why the simulation stopped early ("watchdog: ..." or an error inside the
+    // model); empty when it finished. Reported here rather than thrown: under
+    // AddressSanitizer, Debian's SystemC leaves the main thread's stack
+    // bounds wrong after sc_start, and any throw after it warns (FUZZING.md).
+    std::string error;
 };
 
 struct SimOptions {
@@ -94,7 +99,10 @@ private:
         std::uint64_t signature = 0, changed_at = 0;
     };
     // `views` gives the active ICCs' states for the report should the watchdog fire.
-    void sync_time(std::uint64_t cycle, Watch& w, std::uint64_t extra_progress,
+    // Returns false when the watchdog fired (error_ holds its report; no
+    // exception: none is thrown inside the SystemC thread, whose coroutine
+    // stack AddressSanitizer does not follow through an unwind).
+    [[nodiscard]] bool sync_time(std::uint64_t cycle, Watch& w, std::uint64_t extra_progress,
                    const std::function<std::vector<IccView>()>& views);
     void setup_vcd();
     void sample_vcd(bool s_valid, bool s_stall, bool t_valid, bool t_stall);
@@ -122,8 +130,8 @@ private:
 };
 
 // Runs one simulation in this process (SystemC allows one per process).
-// Throws InputError for a configuration that cannot run, std::runtime_error
-// from the watchdog.
+// Throws InputError for a configuration that cannot run before it starts; a
+// run the watchdog stops returns with SimResult::error set.
 SimResult simulate(const Trace& trace, const SimConfig& cfg, const SimOptions& opt = {});
 
 }  // namespace raplas::model

@@ -124,13 +124,13 @@ int cmd_simulate(const SimulateArgs& a) {
             if (done == total) std::fprintf(stderr, "\n");
         };
     }
-    model::SimResult result;
     model::MemoryStats memory;
-    try {
-        result = model::simulate_system(trace, cfg, memory, opt);
-    } catch (const std::runtime_error& e) {
-        if (std::string(e.what()).rfind("watchdog", 0) == 0) throw InputError(e.what());
-        throw;
+    const model::SimResult result = model::simulate_system(trace, cfg, memory, opt);
+    if (!result.error.empty()) {  // printed, not thrown: see SimResult::error
+        const bool watchdog = result.error.rfind("watchdog", 0) == 0;
+        std::cerr << (watchdog ? "raplas: error: " : "raplas: internal error: ") << InputError::printable(result.error)
+                  << "\n";
+        return watchdog ? kExitInputError : kExitInternalError;
     }
     SimReportInput in;
     in.result = &result;
