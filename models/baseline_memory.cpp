@@ -10,46 +10,6 @@
 
 namespace raplas::model {
 
-void add_memory_system_params(ParamSet& p) {
-    p.add_string("memory.system", std::string("streaming"),
-                 "streaming = the RAPLAS machine (SystemC model); shared = one memory, arbitrated among the ICCs; "
-                 "distributed = each ICC its own copy of the scene (baselines of paper Figure 5, docs/MODEL.md §6)",
-                 {"streaming", "shared", "distributed"});
-    p.add_string("memory.pe", std::string("ideal"),
-                 "baselines: ideal = PEs fast enough, time set by the memory ports (paper §5.2); "
-                 "rti = also bounded by each ICC's Ray-Triangle Intersector (icc.rti_pipes tests per cycle)",
-                 {"ideal", "rti"});
-    p.add_string("memory.shared_spheres", std::string("excluded"),
-                 "shared memory: excluded = the port serves triangle fetches only (the paper's Figure 10 counts "
-                 "triangle transfers); fetched = every ray group also reads every sphere through the port",
-                 {"excluded", "fetched"});
-    p.add_string("memory.distributed_fetch", std::string("demand"),
-                 "distributed memory: demand = an ICC reads every sphere and only the triangles of its hit spheres "
-                 "from its own memories; stream = an ICC streams its copy like a one-ICC RAPLAS (exact one-ICC pass "
-                 "cycles from the SystemC model)",
-                 {"demand", "stream"});
-    p.add_real("memory.fetch_records_per_cycle", 1.0, 1e-6, 1e6,
-               "baselines: records (spheres or triangles) one memory port delivers per cycle (paper Table 1: 1)");
-    p.add_real("area.pe", 1.0, 0.0, 1e9, "area of one ICC's processing elements (paper: PE:memory = 1:2)");
-    p.add_real("area.memory", 2.0, 0.0, 1e9, "area of one copy of Sphere and Triangle Memory (paper: 2)");
-    p.add_real("area.icc_fifos", 0.0, 0.0, 1e9,
-               "streaming: area of one ICC's Sphere and Triangle FIFOs (the paper counts PE and memory only: 0)");
-}
-
-void memory_system_from_params(const ParamSet& p, SimConfig& c) {
-    const std::string s = p.get_string("memory.system");
-    c.memory.system = s == "shared" ? MemorySystem::shared
-                      : s == "distributed" ? MemorySystem::distributed
-                                           : MemorySystem::streaming;
-    c.memory.pe_rti_bound = p.get_string("memory.pe") == "rti";
-    c.memory.shared_fetch_spheres = p.get_string("memory.shared_spheres") == "fetched";
-    c.memory.distributed_stream = p.get_string("memory.distributed_fetch") == "stream";
-    c.memory.records_per_cycle = p.get_real("memory.fetch_records_per_cycle");
-    c.area.pe = p.get_real("area.pe");
-    c.area.memory = p.get_real("area.memory");
-    c.area.icc_fifos = p.get_real("area.icc_fifos");
-}
-
 const char* memory_system_name(MemorySystem s) {
     switch (s) {
         case MemorySystem::shared: return "shared";
