@@ -7,7 +7,7 @@ namespace raplas {
 
 namespace {
 
-const char* task_name(FrontEndUse use) {
+const char* command_name(FrontEndUse use) {
     switch (use) {
         case FrontEndUse::render: return "render";
         case FrontEndUse::trace_file: return "trace";
@@ -19,10 +19,10 @@ const char* task_name(FrontEndUse use) {
 }  // namespace
 
 void check_front_end(FrontEndUse use, const Scene& s, FrameOptions& fo) {
-    const char* task = task_name(use);
-    check_memory(task, frame_memory_up_front(s, fo));
+    const char* command = command_name(use);
+    check_memory(command, frame_memory_up_front(s, fo));
     const Scene* scene = &s;
-    fo.before_shadow = [use, task, scene](const Frame& f, std::size_t lit, double hits) {
+    fo.before_shadow = [use, command, scene](const Frame& f, std::size_t lit, double hits) {
         FrameOptions o;
         o.record = use != FrontEndUse::render;
         std::vector<MemoryItem> items = frame_memory_shadow(*scene, o, lit, hits);
@@ -31,7 +31,7 @@ void check_front_end(FrontEndUse use, const Scene& s, FrameOptions& fo) {
             items.push_back(trace_memory(shape));
             if (use == FrontEndUse::trace_file) items.push_back(trace_file_memory(shape));
         }
-        check_memory(task, items);
+        check_memory(command, items);
     };
 }
 

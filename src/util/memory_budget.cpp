@@ -101,13 +101,13 @@ std::string format_bytes(double b) {
     return buf;
 }
 
-void check_memory(const std::string& task, std::vector<MemoryItem> items) {
+void check_memory(const std::string& command, std::vector<MemoryItem> items) {
     const MemoryLimit lim = memory_limit();
     const double resident = double(resident_memory());
     double total = resident;
     for (const auto& i : items) total += i.bytes;
     if (const char* log = std::getenv("RAPLAS_MEMORY_LOG"); log && *log && std::string(log) != "0") {
-        std::fprintf(stderr, "raplas: memory: %s: estimate %.0f bytes (%s), limit %s (%s): in use %.0f;", task.c_str(),
+        std::fprintf(stderr, "raplas: memory: %s: estimate %.0f bytes (%s), limit %s (%s): in use %.0f;", command.c_str(),
                      total, format_bytes(total).c_str(), lim.unlimited ? "none" : format_bytes(double(lim.bytes)).c_str(),
                      lim.source.c_str(), resident);
         for (const auto& i : items) std::fprintf(stderr, " %s %.0f;", i.what.c_str(), i.bytes);
@@ -116,7 +116,7 @@ void check_memory(const std::string& task, std::vector<MemoryItem> items) {
     if (lim.unlimited || total <= double(lim.bytes)) return;
     std::stable_sort(items.begin(), items.end(), [](const MemoryItem& a, const MemoryItem& b) { return a.bytes > b.bytes; });
     std::ostringstream o;
-    o << task << " needs about " << format_bytes(total) << " (";
+    o << command << " needs about " << format_bytes(total) << " (";
     const std::size_t shown = std::min<std::size_t>(items.size(), 3);
     for (std::size_t i = 0; i < shown; ++i) o << items[i].what << ": " << format_bytes(items[i].bytes) << ", ";
     if (items.size() > shown) o << "..., ";

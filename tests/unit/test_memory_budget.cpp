@@ -21,9 +21,9 @@ struct LimitEnv {
     ~LimitEnv() { ::unsetenv("RAPLAS_MAX_MEMORY"); }
 };
 
-std::string refusal(const std::string& task, const std::vector<MemoryItem>& items) {
+std::string refusal(const std::string& command, const std::vector<MemoryItem>& items) {
     try {
-        check_memory(task, items);
+        check_memory(command, items);
     } catch (const InputError& e) {
         return e.what();
     }

@@ -33,9 +33,9 @@ std::string format_bytes(double bytes);
 
 // Throws InputError when the items and what the process holds already
 // (resident_memory) add up to more than the limit:
-// "TASK needs about X (A: a, B: b, C: c, ...) but Y is available (SOURCE); ..."
+// "COMMAND needs about X (A: a, B: b, C: c, ...) but Y is available (SOURCE); ..."
 // naming the largest items.
-void check_memory(const std::string& task, std::vector<MemoryItem> items);
+void check_memory(const std::string& command, std::vector<MemoryItem> items);
 
 // Resident memory of this process now (VmRSS), bytes; 0 if unknown.
 std::uint64_t resident_memory();
