@@ -12,7 +12,7 @@ import tempfile
 
 raplas, root = sys.argv[1], os.path.abspath(sys.argv[2])
 shared = os.path.join(os.path.dirname(root), "shared", "scenes")
-SKIP = {"wall", "sim_cycles_per_second", "sim_icc_cycles_per_second"}
+SKIP = {"wall"}
 scenes = [("builtin", ["--set", "image.width=24", "--set", "image.height=24", "--set", "groups.size=8",
                        "--set", "groups.shadow_size=8", "--set", "builtin_detail=2"])]
 if os.path.isdir(shared):

@@ -336,8 +336,8 @@ def cpu_times(c):
                  os.path.join(a.work, f"render-{s}.png"), "--json", path, "-q"])
             r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
             cpu.append(r1.ru_utime + r1.ru_stime - r0.ru_utime - r0.ru_stime)
-            w = json.load(open(path))["wall_time_s"]
-            frames.append(w["spheres"] + w["primary"] + w["shadow"] + w["shade"])
+            w = json.load(open(path))["wall"]
+            frames.append(w["spheres_s"] + w["primary_s"] + w["shadow_s"] + w["shade_s"])
         # CPU seconds (user + sys, whole process) say what the frame costs whatever the load.
         res[s] = {"raplas_render_s": statistics.median(frames), "raplas_render_runs": frames,
                   "raplas_render_cpu_s": statistics.median(cpu), "raplas_render_cpu_runs": cpu}

@@ -1,10 +1,12 @@
 #include "raplas/app/cli.hpp"
 
 #include "commands.hpp"
+#include "memory_checks.hpp"
 
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 
 #include "raplas/app/image_io.hpp"
@@ -12,6 +14,7 @@
 #include "raplas/frontend/trace_io.hpp"
 #include "raplas/util/atomic_file.hpp"
 #include "raplas/util/error.hpp"
+#include "raplas/util/memory_budget.hpp"
 
 #ifndef RAPLAS_VERSION
 #define RAPLAS_VERSION "unknown"
@@ -36,6 +39,7 @@ int cmd_render(const SceneOptions& so, const std::string& out_png, const std::st
     fo.threads = so.threads;
     fo.cull = !so.no_cull;
     fo.per_ray = !heatmap.empty();
+    check_front_end(FrontEndUse::render, scene, fo);
     Frame frame = render_frame(scene, fo);
     auto t0 = std::chrono::steady_clock::now();
     if (!out_png.empty()) write_rgb_image(out_png, frame.width, frame.height, frame.rgb);
@@ -65,6 +69,7 @@ int cmd_trace(const SceneOptions& so, const std::string& out, const std::string&
     fo.threads = so.threads;
     fo.cull = !so.no_cull;
     fo.record = true;
+    check_front_end(FrontEndUse::trace_file, scene, fo);
     Frame frame = render_frame(scene, fo);
     auto t0 = std::chrono::steady_clock::now();
     Trace t = make_trace(scene, frame, fmt);
@@ -153,6 +158,14 @@ int run_cli(int argc, char** argv) {
     auto* sweep = app.add_subcommand("sweep", "simulate every scene x ICC count x FIFO depth (docs/SWEEPS.md)");
     add_sweep_options(sweep, sweep_args);
 
+    // --max-memory: the memory budget of every command (RAPLAS_MAX_MEMORY,
+    // so that the processes of a sweep inherit it).
+    std::string max_memory;
+    for (auto* cmd : {render, trace, simulate, sweep})
+        cmd->add_option("--max-memory", max_memory,
+                        "refuse runs estimated to need more memory than this, e.g. 4G, or off "
+                        "(default: what the machine has available; docs/MEMORY.md)");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -166,6 +179,10 @@ int run_cli(int argc, char** argv) {
         return kExitInputError;
     }
     try {
+        if (!max_memory.empty()) {
+            parse_memory_size(max_memory, "--max-memory");
+            ::setenv("RAPLAS_MAX_MEMORY", max_memory.c_str(), 1);
+        }
         if (render->parsed()) return cmd_render(render_so, out_png, heatmap, hits, json);
         if (trace->parsed()) return cmd_trace(trace_so, trace_out, trace_json);
         if (simulate->parsed()) return cmd_simulate(sim);

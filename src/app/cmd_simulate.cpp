@@ -9,6 +9,7 @@
 #include "baseline_memory.hpp"
 #include "commands.hpp"
 #include "config.hpp"
+#include "memory_checks.hpp"
 #include "raplas/app/sim_report.hpp"
 #include "raplas/frontend/trace_io.hpp"
 #include "raplas/util/atomic_file.hpp"
@@ -86,6 +87,8 @@ int cmd_simulate(const SimulateArgs& a) {
     std::string scene_name;
     if (!a.trace.empty()) {
         if (!so.scene.empty() || !so.mesh.empty()) throw InputError("give either --trace or --scene/--mesh, not both");
+        struct stat st{};
+        if (::stat(a.trace.c_str(), &st) == 0 && S_ISREG(st.st_mode)) check_trace_read(a.trace, std::uint64_t(st.st_size));
         trace = read_trace(a.trace);
         scene_name = trace.scene_name;
         if (cfg.functional == model::FunctionalMode::compute && !(trace.format == cfg.format))
@@ -105,11 +108,14 @@ int cmd_simulate(const SimulateArgs& a) {
         fo.threads = so.threads;
         fo.cull = !so.no_cull;
         fo.record = true;
+        check_model_up_front(cfg, scene);
+        check_front_end(FrontEndUse::simulate, scene, fo);
         Frame frame = render_frame(scene, fo);
         trace = make_trace(scene, std::move(frame), cfg.format);
         scene_name = scene.name;
     }
     const double frontend_s = std::chrono::duration<double>(clock::now() - t0).count();
+    check_model(cfg, trace);
 
     model::SimOptions opt;
     opt.vcd_path = a.vcd;

@@ -175,8 +175,6 @@ nlohmann::json sim_json(const SimReportInput& in) {
                  {"model_s", r.model_wall_s},
                  {"sim_cycles_per_second", double(r.total_cycles) / w},
                  {"sim_icc_cycles_per_second", double(r.total_cycles) * c.iccs / w}};
-    j["sim_cycles_per_second"] = j["wall"]["sim_cycles_per_second"];
-    j["sim_icc_cycles_per_second"] = j["wall"]["sim_icc_cycles_per_second"];
     return j;
 }
 

@@ -111,6 +111,23 @@ Frame render_frame(const Scene& scene, const FrameOptions& opt) {
         lit_pixels.push_back(px);
     }
     f.shadow_group_count = lit_pixels.size();
+    if (opt.before_shadow) {
+        double sample_hits = 0;
+        if (opt.record && !lit_pixels.empty()) {
+            const std::size_t k = std::min<std::size_t>(32, std::max<std::size_t>(1, lit_pixels.size() / 100));
+            std::uint64_t hits = 0;
+            for (std::size_t j = 0; j < k; ++j) {
+                const std::size_t px = lit_pixels[j * lit_pixels.size() / k];
+                const int x = int(px % std::size_t(scene.width)), y = int(px / std::size_t(scene.width));
+                GroupResult res;
+                tracer.trace(shadow_group(scene, shadow_origin(scene, f.spheres, f.pixel_ray[px], f.pixel_hit[px]), x, y),
+                             res, false, false);
+                hits += res.counts.sphere_hits;
+            }
+            sample_hits = double(hits) / double(k);
+        }
+        opt.before_shadow(f, lit_pixels.size(), sample_hits);
+    }
     std::vector<RayGroup> shadow(lit_pixels.size());
     std::vector<GroupResult> shadow_res(lit_pixels.size());
     std::vector<GroupCounts> counts(lit_pixels.size());

@@ -29,13 +29,26 @@ std::uint64_t fnv1a(const char* p, std::size_t n) {
     return h;
 }
 
+// Appends to `out`; with `count_only` it only adds up the bytes (`size`), so
+// that the whole file can be written into one buffer of the exact size.
 struct Writer {
     std::string out;
-    template <class T> void put(const T& v) { out.append(reinterpret_cast<const char*>(&v), sizeof(T)); }
+    bool count_only = false;
+    std::size_t size = 0;
+    template <class T> void put(const T& v) {
+        size += sizeof(T);
+        if (!count_only) out.append(reinterpret_cast<const char*>(&v), sizeof(T));
+    }
     void put_vec(const Vec3f& v) { put(v.x); put(v.y); put(v.z); }
-    void put_str(const std::string& s) { put(std::uint32_t(s.size())); out += s; }
+    void put_str(const std::string& s) {
+        put(std::uint32_t(s.size()));
+        size += s.size();
+        if (!count_only) out += s;
+    }
     void put_mask(std::uint64_t m, std::uint32_t bytes) {
-        for (std::uint32_t i = 0; i < bytes; ++i) out.push_back(char((m >> (8 * i)) & 0xff));
+        size += bytes;
+        if (!count_only)
+            for (std::uint32_t i = 0; i < bytes; ++i) out.push_back(char((m >> (8 * i)) & 0xff));
     }
 };
 
@@ -155,8 +168,9 @@ Trace make_trace(const Scene& scene, Frame&& f, const NumFormat& format) {
     return t;
 }
 
-std::string serialize_trace(const Trace& t) {
-    Writer w;
+namespace {
+
+void write_payload(Writer& w, const Trace& t) {
     w.put_str(t.scene_name);
     w.put_str(t.format.name());
     w.put(t.width); w.put(t.height);
@@ -192,15 +206,27 @@ std::string serialize_trace(const Trace& t) {
         for (const auto& s : g.sphere_hits) { w.put(s.sphere); w.put_mask(s.rows, mb); w.put_mask(s.cols, mb); }
         for (const auto& h : g.hits) { w.put(h.t); w.put(h.tri); }
     }
-    std::string out(kMagic, sizeof kMagic);
+}
+
+}  // namespace
+
+std::string serialize_trace(const Trace& t) {
+    Writer count;
+    count.count_only = true;
+    write_payload(count, t);
+    // One buffer: the header's place first, filled in once the payload is there.
+    Writer w;
+    w.out.reserve(kHeaderBytes + count.size);
+    w.out.append(kMagic, sizeof kMagic);
+    w.out.append(kHeaderBytes - sizeof kMagic, '\0');
+    write_payload(w, t);
     Writer hdr;
     hdr.put(kTraceVersion);
     hdr.put(std::uint32_t(kHeaderBytes));
-    hdr.put(std::uint64_t(w.out.size()));
-    hdr.put(fnv1a(w.out.data(), w.out.size()));
-    out += hdr.out;
-    out += w.out;
-    return out;
+    hdr.put(std::uint64_t(w.out.size() - kHeaderBytes));
+    hdr.put(fnv1a(w.out.data() + kHeaderBytes, w.out.size() - kHeaderBytes));
+    w.out.replace(sizeof kMagic, hdr.out.size(), hdr.out);
+    return std::move(w.out);
 }
 
 Trace parse_trace(const std::string& bytes, const std::string& name) {
@@ -314,11 +340,18 @@ void write_trace(const std::string& path, const Trace& t) { write_file_atomicall
 Trace read_trace(const std::string& path) {
     struct stat st{};
     if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) throw InputError(path + ": is a directory, not a trace");
-    std::ifstream in(path, std::ios::binary);
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
     if (!in) throw InputError(path + ": cannot open trace: " + std::strerror(errno));
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return parse_trace(ss.str(), path);
+    // Read straight into one buffer of the file's size (no stream copy).
+    const std::streamoff size = in.tellg();
+    std::string bytes;
+    if (size > 0) {
+        bytes.resize(std::size_t(size));
+        in.seekg(0);
+        in.read(bytes.data(), size);
+        bytes.resize(std::size_t(in.gcount()));
+    }
+    return parse_trace(bytes, path);
 }
 
 }  // namespace raplas

@@ -11,6 +11,7 @@
 
 #include "raplas/scene/mesh.hpp"
 #include "raplas/util/error.hpp"
+#include "raplas/util/memory_budget.hpp"
 
 namespace raplas {
 
@@ -226,12 +227,26 @@ private:
 Mesh load_obj(const std::string& path) {
     struct stat st{};
     if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) throw InputError(path + ": is a directory, not an OBJ file");
-    std::ifstream in(path, std::ios::binary);
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
     if (!in) throw InputError(path + ": cannot open OBJ file: " + std::strerror(errno));
-    std::stringstream ss;
-    ss << in.rdbuf();
+    // The text, tinyobjloader's stream copy of it and its arrays (about the
+    // text's size again): docs/MEMORY.md.
+    const std::streamoff size = in.tellg();
+    if (size > 0) check_memory("loading " + path, {{"OBJ text, its copy and its parse", 3.0 * double(size)}});
+    std::string text;
+    if (size > 0) {
+        text.resize(std::size_t(size));
+        in.seekg(0);
+        in.read(text.data(), size);
+        text.resize(std::size_t(in.gcount()));
+    } else {
+        std::stringstream ss;  // not a regular file: read to the end
+        in.seekg(0);
+        ss << in.rdbuf();
+        text = ss.str();
+    }
     auto slash = path.find_last_of('/');
-    return load_obj_text(ss.str(), path, slash == std::string::npos ? "./" : path.substr(0, slash + 1));
+    return load_obj_text(text, path, slash == std::string::npos ? "./" : path.substr(0, slash + 1));
 }
 
 Mesh load_obj_text(const std::string& text, const std::string& path, const std::string& mtl_dir) {

@@ -148,8 +148,9 @@ void all_cases(A a, const std::string& fmt, bool expect_culling = true) {
     random_sets(c, fmt);
     tangent_planes(c, fmt);
     EXPECT_GT(c.records, 1000u) << fmt << ": the planes hit spheres";
-    if (expect_culling)
+    if (expect_culling) {
         EXPECT_GT(c.culled_groups, c.groups * 3 / 4) << fmt << ": the culling path was taken";
+    }
 }
 
 TEST(SphereCulling, SameRecordsAsTheFullTestFloat32) { all_cases(ArithF32{}, "float32"); }

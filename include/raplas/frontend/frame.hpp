@@ -4,11 +4,14 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "raplas/frontend/tracer.hpp"
 
 namespace raplas {
+
+struct Frame;
 
 struct FrameOptions {
     NumFormat format = NumFormat::float32();
@@ -16,6 +19,12 @@ struct FrameOptions {
     bool record = false;    // keep every group and its sphere-hit list (for the trace)
     bool per_ray = false;   // per-pixel work counts (heat map)
     bool cull = true;       // skip spheres a group provably misses (bit-identical results)
+    // Called once the primary rays are traced and before the shadow rays, with
+    // the frame so far, the number of pixels whose primary ray hits (one
+    // shadow group each) and, when recording, the mean sphere hits of a
+    // sample of those shadow groups (up to 32, about 1 %, traced twice); may
+    // throw to stop (the memory budget, src/app/memory_checks.cpp).
+    std::function<void(const Frame&, std::size_t lit_pixels, double shadow_sphere_hits)> before_shadow;
 };
 
 struct PhaseTimes {

@@ -1,0 +1,50 @@
+// Memory the front end will allocate, estimated from counts known before the
+// work (docs/MEMORY.md compares the estimates with measured peak RSS).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "raplas/frontend/frame.hpp"
+#include "raplas/frontend/trace_io.hpp"
+#include "raplas/util/memory_budget.hpp"
+
+namespace raplas {
+
+// What a trace holds, known before it exists.
+struct TraceShape {
+    std::uint64_t spheres = 0, triangles = 0;
+    std::uint64_t primary_groups = 0, shadow_groups = 0;
+    std::uint32_t group_size = 16, shadow_group_size = 16;
+    double primary_sphere_hits = 0, shadow_sphere_hits = 0;  // totals over the groups
+    std::uint64_t groups() const { return primary_groups + shadow_groups; }
+};
+
+// Bytes of each element in the intersectors' number format (4 or 8).
+std::uint32_t format_bytes_per_value(const NumFormat& f);
+
+// Before render_frame: bounding spheres, the per-pixel buffers and (when
+// recording) the primary groups; a lower bound of the whole front end, as the
+// shadow groups depend on how many pixels the primary rays hit.
+std::vector<MemoryItem> frame_memory_up_front(const Scene& s, const FrameOptions& o);
+
+// From FrameOptions::before_shadow on: the shadow phase for `lit` pixels and,
+// when recording, the shadow groups kept. `shadow_hits_per_group` is the
+// expected sphere hits per shadow group (render_frame samples some).
+std::vector<MemoryItem> frame_memory_shadow(const Scene& s, const FrameOptions& o, std::uint64_t lit,
+                                            double shadow_hits_per_group);
+
+// The Trace structure (make_trace / read_trace) of that shape.
+MemoryItem trace_memory(const TraceShape& t);
+// The serialized trace (raplas trace's file buffer).
+MemoryItem trace_file_memory(const TraceShape& t);
+// The shape of a frame's trace, once the primary rays are traced.
+TraceShape trace_shape(const Scene& s, const Frame& f, std::uint64_t lit, double shadow_hits_per_group);
+// The shape of a parsed trace.
+TraceShape trace_shape(const Trace& t);
+// The shape of a trace file, from its first fields and its size (docs/TRACE.md):
+// the sphere-hit count is what the groups leave of the payload. All zero
+// when the file is not a trace of this version (the reader then says why).
+TraceShape trace_file_shape(const std::string& path);
+
+}  // namespace raplas

@@ -1,0 +1,49 @@
+#include "memory_estimate.hpp"
+
+#include <algorithm>
+#include <string>
+
+#include "top.hpp"
+
+namespace raplas::model {
+
+namespace {
+// SystemC bookkeeping of an ICC's 13 modules (names, hierarchy, process
+// tables), measured: docs/MEMORY.md.
+constexpr double kSystemCPerIcc = 8 * 1024;
+}  // namespace
+
+std::vector<MemoryItem> model_memory(const SimConfig& c, const TraceShape& t) {
+    const double fb = format_bytes_per_value(c.format);
+    const bool compute = c.functional == FunctionalMode::compute;
+    const std::uint32_t n = std::max(t.group_size, t.shadow_group_size);
+    const double groups = double(t.primary_groups + t.shadow_groups);
+    const double hits_per_group = groups > 0 ? (t.primary_sphere_hits + t.shadow_sphere_hits) / groups : 0;
+    // Every ICC: its FIFOs at full depth (the Sphere FIFO is a counter), RTI
+    // and PSI pipelines, statistics and SystemC bookkeeping. ICCs that get a
+    // group (at most one per group): Min-distance Memory and the group
+    // unit's planes, rays and sphere-hit list.
+    const double fifo = double(c.icc.triangle_fifo.depth) * sizeof(TriWork) +
+                        double(c.icc.planeid_fifo.depth) * (sizeof(PlaneIdEntry) + sizeof(FirstTriEntry));
+    const double per_icc = sizeof(Icc) + kSystemCPerIcc + double(c.icc.rti.stages) * (c.icc.rti.pipes * sizeof(RtiOp) + 4) +
+                           (c.icc.psi.stages + 2.0) * sizeof(PsiResult) + sizeof(IccSnapshot);
+    double per_active = double(n) * n * sizeof(Hit);
+    if (compute) per_active += 2.0 * n * 4 * fb + double(n) * n * 8 * fb + 1.5 * hits_per_group * sizeof(SphereHitRec);
+    const double active = std::min(double(c.iccs), std::max(groups, 1.0));
+    std::vector<MemoryItem> items;
+    items.push_back({std::to_string(c.iccs) + " ICCs x FIFO depths " + std::to_string(c.icc.triangle_fifo.depth) + "/" +
+                         std::to_string(c.icc.planeid_fifo.depth) + " (Triangle/PlaneID)",
+                     double(c.iccs) * fifo});
+    items.push_back({std::to_string(c.iccs) + " ICCs' pipelines and group state", double(c.iccs) * per_icc + active * per_active});
+    // Sphere and Triangle Memory; the functional model's geometry in the
+    // format; event mode: every ICC's sphere hits of a pass in one list.
+    double shared = double(t.spheres) * (sizeof(SphereRecord)) + double(t.triangles) * (sizeof(TriangleRec) + 4);
+    if (compute) shared += double(t.spheres) * 4 * fb + double(t.triangles) * 12 * fb;
+    if (c.mode == SimMode::event) shared += active * hits_per_group * sizeof(SphereHitRec);
+    items.push_back({"stream memories (" + std::to_string(t.spheres) + " spheres, " + std::to_string(t.triangles) +
+                         " triangles)",
+                     shared});
+    return items;
+}
+
+}  // namespace raplas::model

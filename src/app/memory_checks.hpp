@@ -1,0 +1,32 @@
+// Internal to the app layer: the memory budget at each step of a command
+// (docs/MEMORY.md). Each check adds what the process holds now to what the
+// step will allocate until its peak, and refuses the run (InputError) when
+// that exceeds the limit.
+#pragma once
+
+#include <string>
+
+#include "config.hpp"
+#include "raplas/frontend/frame.hpp"
+#include "raplas/frontend/trace_io.hpp"
+#include "raplas/scene/scene.hpp"
+
+namespace raplas {
+
+enum class FrontEndUse { render, trace_file, simulate };
+
+// Before render_frame; installs in `fo` the check before the shadow rays,
+// which also counts the trace (and its file buffer) the command will build.
+void check_front_end(FrontEndUse use, const Scene& s, FrameOptions& fo);
+
+// `raplas simulate` before the front end: the model for the scene's shape
+// without its shadow groups (a lower bound).
+void check_model_up_front(const model::SimConfig& c, const Scene& s);
+
+// Before reading a trace file of `bytes` bytes.
+void check_trace_read(const std::string& path, std::uint64_t bytes);
+
+// Before the timing model, with the trace in memory.
+void check_model(const model::SimConfig& c, const Trace& t);
+
+}  // namespace raplas

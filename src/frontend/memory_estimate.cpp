@@ -1,0 +1,162 @@
+#include "raplas/frontend/memory_estimate.hpp"
+
+#include <cstring>
+#include <fstream>
+#include <string>
+
+namespace raplas {
+
+namespace {
+
+// std::vector growth leaves up to half its capacity unused; lists built by
+// push_back are counted at 1.5 times their size.
+constexpr double kGrowth = 1.5;
+
+std::string count(std::uint64_t n) {
+    std::string s = std::to_string(n);
+    for (int i = int(s.size()) - 3; i > 0; i -= 3) s.insert(std::size_t(i), ",");
+    return s;
+}
+
+std::uint64_t groups_of(int w, int h, int n) {
+    return std::uint64_t((w + n - 1) / n) * std::uint64_t((h + n - 1) / n);
+}
+
+// A recorded group: the RayGroup and its GroupResult (planes, nearest hits).
+double recorded_group_bytes(std::uint32_t n) {
+    return double(sizeof(RayGroup) + sizeof(GroupResult)) + 2.0 * n * sizeof(Plane) + double(n) * n * sizeof(Hit);
+}
+
+// A TraceGroup: planes, ray directions, nearest hits.
+double trace_group_bytes(std::uint32_t n) {
+    return double(sizeof(TraceGroup)) + 2.0 * n * sizeof(Plane) + double(n) * n * (sizeof(Vec3f) + sizeof(Hit));
+}
+
+// A group in the file (docs/TRACE.md), without its sphere-hit records.
+double file_group_bytes(std::uint32_t n) { return 1 + 4 + 8 + 12 + 4 + 16 + 2.0 * n * 16 + double(n) * n * (12 + 12) + 24 + 8; }
+double file_hit_bytes(std::uint32_t n) { return 4 + 2.0 * ((n + 7) / 8); }
+
+}  // namespace
+
+std::uint32_t format_bytes_per_value(const NumFormat& f) { return f.kind == NumFormat::Kind::f32 ? 4 : 8; }
+
+std::vector<MemoryItem> frame_memory_up_front(const Scene& s, const FrameOptions& o) {
+    const std::uint64_t tris = s.mesh.triangle_count();
+    const std::uint64_t spheres = (tris + std::uint64_t(s.tris_per_sphere) - 1) / std::uint64_t(s.tris_per_sphere);
+    const std::uint64_t npix = std::uint64_t(s.width) * std::uint64_t(s.height);
+    const double fb = format_bytes_per_value(o.format);
+    std::vector<MemoryItem> items;
+    // Sphere and Triangle Memory, the tracer's copies in the format, and the
+    // sphere builder's working arrays (about as much again).
+    const double set = double(spheres) * (sizeof(Sphere) + 8) + double(tris) * (sizeof(TriangleRec) + 8);
+    items.push_back({"spheres and triangles (" + count(spheres) + " spheres, " + count(tris) + " triangles)",
+                     2 * set + double(spheres) * 4 * fb + double(tris) * 12 * fb});
+    // Per pixel: primary ray, nearest hit, work counts, visibility, shading
+    // terms, linear and 8-bit colour.
+    items.push_back({"image " + std::to_string(s.width) + "x" + std::to_string(s.height),
+                     double(npix) * (sizeof(Ray) + sizeof(Hit) + 2 * 8 + 4 + 4 + 12 + 3)});
+    const std::uint64_t pg = groups_of(s.width, s.height, s.group_size);
+    const std::uint32_t n = std::uint32_t(s.group_size);
+    double per_group = double(sizeof(RayGroup) + sizeof(GroupResult)) + 2.0 * n * sizeof(Plane) + double(n) * n * sizeof(Hit);
+    if (o.per_ray) per_group += double(n) * n * 8;
+    items.push_back({"primary ray groups (" + count(pg) + ")", double(pg) * per_group});
+    return items;
+}
+
+std::vector<MemoryItem> frame_memory_shadow(const Scene& s, const FrameOptions& o, std::uint64_t lit,
+                                            double shadow_hits_per_group) {
+    const std::uint64_t npix = std::uint64_t(s.width) * std::uint64_t(s.height);
+    std::vector<MemoryItem> items;
+    // The shadow phase's arrays, one slot per lit pixel, and the shading term.
+    items.push_back({"shadow phase (" + count(lit) + " lit pixels)",
+                     double(lit) * (8 + sizeof(RayGroup) + sizeof(GroupResult) + sizeof(GroupCounts)) + double(npix) * 4});
+    if (o.record) {
+        const std::uint32_t ns = std::uint32_t(s.shadow_group_size);
+        items.push_back({"shadow ray groups recorded (" + count(lit) + ")",
+                         double(lit) * (recorded_group_bytes(ns) - sizeof(RayGroup) - sizeof(GroupResult) +
+                                        kGrowth * shadow_hits_per_group * sizeof(SphereHitRec))});
+    }
+    return items;
+}
+
+TraceShape trace_shape(const Scene& s, const Frame& f, std::uint64_t lit, double shadow_hits_per_group) {
+    TraceShape t;
+    t.spheres = f.spheres.sphere_count();
+    t.triangles = f.spheres.triangle_count();
+    t.primary_groups = f.primary.size();
+    t.shadow_groups = lit;
+    t.group_size = std::uint32_t(s.group_size);
+    t.shadow_group_size = std::uint32_t(s.shadow_group_size);
+    t.primary_sphere_hits = double(f.primary_counts.sphere_hits);
+    t.shadow_sphere_hits = double(lit) * shadow_hits_per_group;
+    return t;
+}
+
+TraceShape trace_shape(const Trace& tr) {
+    TraceShape t;
+    t.spheres = tr.spheres.size();
+    t.triangles = tr.triangles.size();
+    t.primary_groups = tr.primary_groups;
+    t.shadow_groups = tr.groups.size() - tr.primary_groups;
+    t.group_size = tr.group_size;
+    t.shadow_group_size = tr.shadow_group_size;
+    for (std::size_t i = 0; i < tr.groups.size(); ++i)
+        (i < tr.primary_groups ? t.primary_sphere_hits : t.shadow_sphere_hits) += double(tr.groups[i].sphere_hits.size());
+    return t;
+}
+
+TraceShape trace_file_shape(const std::string& path) {
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
+    const std::streamoff size = in.tellg();
+    in.seekg(0);
+    auto get = [&](auto& v) { return bool(in.read(reinterpret_cast<char*>(&v), sizeof v)); };
+    auto skip_str = [&] {
+        std::uint32_t n = 0;
+        return get(n) && n <= 4096 && bool(in.seekg(n, std::ios::cur));
+    };
+    char magic[8];
+    std::uint32_t version = 0, header = 0, dims[5] = {};
+    std::uint64_t payload = 0, sum = 0, spheres = 0, tris = 0, groups = 0;
+    std::uint32_t primary = 0;
+    TraceShape t;
+    if (!in || size < 32 || !in.read(magic, 8) || std::memcmp(magic, "RAPLTRC\n", 8) != 0 || !get(version) ||
+        version != kTraceVersion || !get(header) || !get(payload) || !get(sum) || !skip_str() || !skip_str())
+        return t;
+    for (auto& d : dims)
+        if (!get(d)) return t;
+    if (!get(spheres) || spheres > std::uint64_t(size) / 24 || !in.seekg(std::streamoff(spheres * 24), std::ios::cur) ||
+        !get(tris) || tris > std::uint64_t(size) / 52 || !in.seekg(std::streamoff(tris * 52), std::ios::cur) ||
+        !get(primary) || !get(groups) || groups < primary || groups > std::uint64_t(size))
+        return t;
+    const std::uint32_t n = dims[2], ns = dims[3];  // width, height, group size, shadow group size, K
+    if (n < 1 || n > 64 || ns < 1 || ns > 64) return t;
+    t.spheres = spheres;
+    t.triangles = tris;
+    t.primary_groups = primary;
+    t.shadow_groups = groups - primary;
+    t.group_size = n;
+    t.shadow_group_size = ns;
+    const double rest = double(size) - double(in.tellg()) - double(primary) * file_group_bytes(n) -
+                        double(groups - primary) * file_group_bytes(ns);
+    if (rest > 0) t.shadow_sphere_hits = rest / file_hit_bytes(ns);  // (primary groups' share counted alike)
+    return t;
+}
+
+MemoryItem trace_memory(const TraceShape& t) {
+    const double b = double(t.spheres) * (sizeof(Sphere) + 8) + double(t.triangles) * (sizeof(TriangleRec) + 4) +
+                     double(t.primary_groups) * trace_group_bytes(t.group_size) +
+                     double(t.shadow_groups) * trace_group_bytes(t.shadow_group_size) +
+                     (t.primary_sphere_hits + t.shadow_sphere_hits) * sizeof(SphereHitRec);
+    return {"trace (" + count(t.primary_groups + t.shadow_groups) + " ray groups)", b};
+}
+
+MemoryItem trace_file_memory(const TraceShape& t) {
+    const double b = 64 + double(t.spheres) * 24 + double(t.triangles) * 52 +
+                     double(t.primary_groups) * file_group_bytes(t.group_size) +
+                     double(t.shadow_groups) * file_group_bytes(t.shadow_group_size) +
+                     t.primary_sphere_hits * file_hit_bytes(t.group_size) +
+                     t.shadow_sphere_hits * file_hit_bytes(t.shadow_group_size);
+    return {"trace file buffer", b};
+}
+
+}  // namespace raplas
