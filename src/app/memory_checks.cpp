@@ -28,7 +28,7 @@ void check_front_end(FrontEndUse use, const Scene& s, FrameOptions& fo) {
         std::vector<MemoryItem> items = frame_memory_shadow(*scene, o, lit, hits);
         if (o.record) {
             const TraceShape shape = trace_shape(*scene, f, lit, hits);
-            items.push_back(trace_memory(shape));
+            items.push_back(trace_memory(shape, use == FrontEndUse::simulate));  // simulate moves the frame into it
             if (use == FrontEndUse::trace_file) items.push_back(trace_file_memory(shape));
         }
         check_memory(command, items);

@@ -8,10 +8,6 @@ namespace raplas {
 
 namespace {
 
-// std::vector growth leaves up to half its capacity unused; lists built by
-// push_back are counted at 1.5 times their size.
-constexpr double kGrowth = 1.5;
-
 std::string count(std::uint64_t n) {
     std::string s = std::to_string(n);
     for (int i = int(s.size()) - 3; i > 0; i -= 3) s.insert(std::size_t(i), ",");
@@ -27,9 +23,11 @@ double recorded_group_bytes(std::uint32_t n) {
     return double(sizeof(RayGroup) + sizeof(GroupResult)) + 2.0 * n * sizeof(Plane) + double(n) * n * sizeof(Hit);
 }
 
-// A TraceGroup: planes, ray directions, nearest hits.
-double trace_group_bytes(std::uint32_t n) {
-    return double(sizeof(TraceGroup)) + 2.0 * n * sizeof(Plane) + double(n) * n * (sizeof(Vec3f) + sizeof(Hit));
+// A TraceGroup: planes, nearest hits and, when read from a file, the ray
+// directions (a trace built in memory keeps the ray grid instead).
+double trace_group_bytes(std::uint32_t n, bool directions) {
+    return double(sizeof(TraceGroup)) + 2.0 * n * sizeof(Plane) +
+           double(n) * n * ((directions ? sizeof(Vec3f) : 0) + sizeof(Hit));
 }
 
 // A group in the file (docs/TRACE.md), without its sphere-hit records.
@@ -74,7 +72,7 @@ std::vector<MemoryItem> frame_memory_shadow(const Scene& s, const FrameOptions& 
         const std::uint32_t ns = std::uint32_t(s.shadow_group_size);
         items.push_back({"shadow ray groups recorded (" + count(lit) + ")",
                          double(lit) * (recorded_group_bytes(ns) - sizeof(RayGroup) - sizeof(GroupResult) +
-                                        kGrowth * shadow_hits_per_group * sizeof(SphereHitRec))});
+                                        shadow_hits_per_group * sizeof(SphereHitRec))});  // exact-size lists
     }
     return items;
 }
@@ -89,6 +87,7 @@ TraceShape trace_shape(const Scene& s, const Frame& f, std::uint64_t lit, double
     t.shadow_group_size = std::uint32_t(s.shadow_group_size);
     t.primary_sphere_hits = double(f.primary_counts.sphere_hits);
     t.shadow_sphere_hits = double(lit) * shadow_hits_per_group;
+    t.directions = false;  // make_trace keeps the ray grid
     return t;
 }
 
@@ -100,6 +99,8 @@ TraceShape trace_shape(const Trace& tr) {
     t.shadow_groups = tr.groups.size() - tr.primary_groups;
     t.group_size = tr.group_size;
     t.shadow_group_size = tr.shadow_group_size;
+    t.directions = false;
+    for (const auto& g : tr.groups) t.directions = t.directions || !g.dirs.empty();
     for (std::size_t i = 0; i < tr.groups.size(); ++i)
         (i < tr.primary_groups ? t.primary_sphere_hits : t.shadow_sphere_hits) += double(tr.groups[i].sphere_hits.size());
     return t;
@@ -142,12 +143,20 @@ TraceShape trace_file_shape(const std::string& path) {
     return t;
 }
 
-MemoryItem trace_memory(const TraceShape& t) {
-    const double b = double(t.spheres) * (sizeof(Sphere) + 8) + double(t.triangles) * (sizeof(TriangleRec) + 4) +
-                     double(t.primary_groups) * trace_group_bytes(t.group_size) +
-                     double(t.shadow_groups) * trace_group_bytes(t.shadow_group_size) +
+MemoryItem trace_memory(const TraceShape& t, bool moved_from_frame) {
+    const double geometry = double(t.spheres) * (sizeof(Sphere) + 8) + double(t.triangles) * (sizeof(TriangleRec) + 4);
+    if (moved_from_frame) {
+        // make_trace(scene, Frame&&): the groups' planes, nearest hits and
+        // sphere-hit lists change owner (counted with the frame); new are the
+        // group records and, as the primary groups' lists are not in the
+        // frame's estimate, those lists.
+        const double b = geometry + double(t.groups()) * sizeof(TraceGroup) + t.primary_sphere_hits * sizeof(SphereHitRec);
+        return {"trace (" + count(t.groups()) + " ray groups, moved from the frame)", b};
+    }
+    const double b = geometry + double(t.primary_groups) * trace_group_bytes(t.group_size, t.directions) +
+                     double(t.shadow_groups) * trace_group_bytes(t.shadow_group_size, t.directions) +
                      (t.primary_sphere_hits + t.shadow_sphere_hits) * sizeof(SphereHitRec);
-    return {"trace (" + count(t.primary_groups + t.shadow_groups) + " ray groups)", b};
+    return {"trace (" + count(t.groups()) + " ray groups)", b};
 }
 
 MemoryItem trace_file_memory(const TraceShape& t) {

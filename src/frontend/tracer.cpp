@@ -46,12 +46,18 @@ struct ImplT final : Tracer::Impl {
         const std::uint64_t valid_planes =
             std::uint64_t(__builtin_popcountll(g.row_valid)) + std::uint64_t(__builtin_popcountll(g.col_valid));
         out.counts.plane_tests = valid_planes * spheres.size();
-        std::vector<SphereHitRec> local;
-        std::vector<SphereHitRec>& list = record ? out.sphere_list : local;
+        // The list is built in a per-thread scratch vector and, when recorded,
+        // copied at its exact size: a frame keeps hundreds of thousands of
+        // these lists, and push_back growth would leave up to half of each
+        // unused (docs/MEMORY.md).
+        thread_local std::vector<SphereHitRec> scratch;
+        std::vector<SphereHitRec>& list = scratch;
+        list.clear();
         if (tree.empty())
             group_sphere_hits(a, planes.data(), n, g.row_valid, g.col_valid, spheres, list);
         else
             group_sphere_hits_culled(a, g.planes.data(), planes.data(), n, g.row_valid, g.col_valid, spheres, tree, list);
+        if (record) out.sphere_list = std::vector<SphereHitRec>(list.begin(), list.end());
         out.counts.sphere_hits = list.size();
         for (const SphereHitRec& hit : list) {
             const std::uint32_t si = hit.sphere;

@@ -276,10 +276,15 @@ inline void plane_masks(const ArithSoft& a, const PlaneA<ArithSoft>* planes, std
 }
 
 // A sphere hit by at least one valid row plane and one valid column plane.
+// Packed to 20 bytes (4-byte alignment): a frame's trace holds one per sphere
+// a group hits, hundreds of millions at 512 x 512 (docs/MEMORY.md).
+#pragma pack(push, 4)
 struct SphereHitRec {
     std::uint32_t sphere;
     std::uint64_t rows, cols;  // plane-hit masks (only valid planes can hit)
 };
+#pragma pack(pop)
+static_assert(sizeof(SphereHitRec) == 20);
 
 // Steps 5-6 decision for one ray group: every sphere whose row mask and
 // column mask are both non-empty, in sphere order. planes[0, n) are the row

@@ -17,6 +17,7 @@ struct TraceShape {
     std::uint64_t primary_groups = 0, shadow_groups = 0;
     std::uint32_t group_size = 16, shadow_group_size = 16;
     double primary_sphere_hits = 0, shadow_sphere_hits = 0;  // totals over the groups
+    bool directions = true;  // groups hold N*N ray directions (read from a file), not the ray grid
     std::uint64_t groups() const { return primary_groups + shadow_groups; }
 };
 
@@ -34,8 +35,9 @@ std::vector<MemoryItem> frame_memory_up_front(const Scene& s, const FrameOptions
 std::vector<MemoryItem> frame_memory_shadow(const Scene& s, const FrameOptions& o, std::uint64_t lit,
                                             double shadow_hits_per_group);
 
-// The Trace structure (make_trace / read_trace) of that shape.
-MemoryItem trace_memory(const TraceShape& t);
+// The Trace structure (make_trace / read_trace) of that shape; built by
+// make_trace(scene, Frame&&), only what it adds to the frame.
+MemoryItem trace_memory(const TraceShape& t, bool moved_from_frame = false);
 // The serialized trace (raplas trace's file buffer).
 MemoryItem trace_file_memory(const TraceShape& t);
 // The shape of a frame's trace, once the primary rays are traced.
