@@ -1,5 +1,7 @@
 #include "raplas/frontend/tracer.hpp"
 
+#include <type_traits>
+
 #include "raplas/core/cull.hpp"
 
 namespace raplas {
@@ -11,6 +13,22 @@ struct Tracer::Impl {
 };
 
 namespace {
+
+// rays_hit_triangle_native compiled for AVX2 as well as the baseline (the
+// loader picks one per machine; no FMA either way: -ffp-contract=off, so the
+// bits are the same).
+__attribute__((target_clones("avx2", "default"))) bool row_hits(const float o[3], float tmin, float tmax,
+                                                                const float* dx, const float* dy, const float* dz,
+                                                                std::size_t count, const TriA<ArithF32>& tr,
+                                                                std::uint8_t* hit, float* t) {
+    return rays_hit_triangle_native<float>(o, tmin, tmax, dx, dy, dz, count, tr, hit, t);
+}
+__attribute__((target_clones("avx2", "default"))) bool row_hits(const double o[3], double tmin, double tmax,
+                                                                const double* dx, const double* dy, const double* dz,
+                                                                std::size_t count, const TriA<ArithF64>& tr,
+                                                                std::uint8_t* hit, double* t) {
+    return rays_hit_triangle_native<double>(o, tmin, tmax, dx, dy, dz, count, tr, hit, t);
+}
 
 template <class A>
 struct ImplT final : Tracer::Impl {
@@ -59,6 +77,12 @@ struct ImplT final : Tracer::Impl {
             group_sphere_hits_culled(a, g.planes.data(), planes.data(), n, g.row_valid, g.col_valid, spheres, tree, list);
         if (record) out.sphere_list = std::vector<SphereHitRec>(list.begin(), list.end());
         out.counts.sphere_hits = list.size();
+        if constexpr (kNative) {
+            if (!per_ray) {
+                triangles_by_row(g, rays, list, out);
+                return;
+            }
+        }
         for (const SphereHitRec& hit : list) {
             const std::uint32_t si = hit.sphere;
             const std::uint64_t rows = hit.rows, cols = hit.cols;
@@ -79,6 +103,52 @@ struct ImplT final : Tracer::Impl {
                     if (per_ray) {
                         out.ray_rt_tests[ri] += t1 - t0;
                         out.ray_sphere_hits[ri] += 1;
+                    }
+                }
+            }
+        }
+    }
+
+    // Native formats: each triangle of a hit sphere against whole rows of the
+    // group at once (rays_hit_triangle_native, vectorised, bit-identical to
+    // the ray-by-ray test); only the columns of the sphere's mask are kept.
+    // Every ray of a group shares the origin and (tmin, tmax).
+    static constexpr bool kNative = std::is_same_v<A, ArithF32> || std::is_same_v<A, ArithF64>;
+
+    void triangles_by_row(const RayGroup& g, const std::vector<RayA<A>>& rays, const std::vector<SphereHitRec>& list,
+                          GroupResult& out) const {
+        const std::uint32_t n = g.n;
+        const std::size_t nn = std::size_t(n) * n;
+        thread_local std::vector<T> dx, dy, dz, tt;
+        thread_local std::vector<std::uint8_t> hit;
+        dx.resize(nn);
+        dy.resize(nn);
+        dz.resize(nn);
+        tt.resize(n);
+        hit.resize(n);
+        for (std::size_t i = 0; i < nn; ++i) {
+            dx[i] = rays[i].d[0];
+            dy[i] = rays[i].d[1];
+            dz[i] = rays[i].d[2];
+        }
+        const RayA<A>& r0 = rays[0];
+        std::uint8_t* hb = hit.data();
+        for (const SphereHitRec& rec : list) {
+            const std::uint32_t si = rec.sphere;
+            const std::uint64_t rows = rec.rows, cols = rec.cols;
+            const std::uint32_t t0 = s.first_tri[si], t1 = t0 + s.tri_count[si];
+            out.counts.rt_tests += std::uint64_t(__builtin_popcountll(rows)) *
+                                   std::uint64_t(__builtin_popcountll(cols)) * (t1 - t0);
+            for (std::uint32_t t = t0; t < t1; ++t) {
+                for (std::uint64_t rm = rows; rm; rm &= rm - 1) {
+                    const std::size_t v = static_cast<std::size_t>(__builtin_ctzll(rm));
+                    const std::size_t base = v * n;
+                    if (!row_hits(r0.o, r0.tmin, r0.tmax, dx.data() + base, dy.data() + base, dz.data() + base, n,
+                                  tris[t], hb, tt.data()))
+                        continue;
+                    for (std::uint64_t cm = cols; cm; cm &= cm - 1) {
+                        const std::size_t h = static_cast<std::size_t>(__builtin_ctzll(cm));
+                        if (hb[h]) keep_nearest(out.hits[base + h], static_cast<double>(tt[h]), static_cast<std::int32_t>(t));
                     }
                 }
             }

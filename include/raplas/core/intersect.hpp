@@ -356,6 +356,46 @@ inline bool ray_hits_triangle(const A& a, const RayA<A>& r, const TriA<A>& tr, d
     return ray_hits_triangle_ops(a, r, tr, t_out);
 }
 
+// Eq. 2 for `count` rays of one group against one triangle, in a native
+// format (float or double): the rays share the origin o and the interval
+// (tmin, tmax) and have the directions (dx[i], dy[i], dz[i]). The operations
+// are those of ray_hits_triangle_ops in the same order (the terms of the
+// origin, T = O - V0 and E . T, computed once for all rays), so hit[i] and,
+// where hit[i], t[i] are bit-identical to it (test_intersect.cpp checks it on
+// random and degenerate cases). Branch-free, so that the compiler vectorises
+// the loop over the rays. Returns whether any ray hits.
+template <class T>
+inline bool rays_hit_triangle_native(const T o[3], T tmin, T tmax, const T* dx, const T* dy, const T* dz,
+                                     std::size_t count, const TriA<ArithNative<T>>& tr, std::uint8_t* hit, T* t) {
+    const T tx = o[0] - tr.v0[0], ty = o[1] - tr.v0[1], tz = o[2] - tr.v0[2];
+    const T tp0 = -((tr.n[0] * tx + tr.n[1] * ty) + tr.n[2] * tz);
+    const T n0 = tr.n[0], n1 = tr.n[1], n2 = tr.n[2];
+    const T a0 = tr.e1[0], a1 = tr.e1[1], a2 = tr.e1[2];
+    const T b0 = tr.e2[0], b1 = tr.e2[1], b2 = tr.e2[2];
+    std::uint8_t any = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+        const T d0 = dx[i], d1 = dy[i], d2 = dz[i];
+        const T cx = d1 * tz - d2 * ty;
+        const T cy = d2 * tx - d0 * tz;
+        const T cz = d0 * ty - d1 * tx;
+        const T det0 = (d0 * n0 + d1 * n1) + d2 * n2;
+        const T u0 = (cx * b0 + cy * b1) + cz * b2;
+        const T v0 = -((cx * a0 + cy * a1) + cz * a2);
+        const bool back = det0 < T(0);
+        const T det = back ? -det0 : det0;
+        const T u = back ? -u0 : u0;
+        const T v = back ? -v0 : v0;
+        const T tp = back ? -tp0 : tp0;
+        const T ti = tp / det;
+        // det != 0 and not NaN, u, v >= 0, u + v <= det, tmin < t < tmax
+        const std::uint8_t h = (det0 != T(0)) & (det == det) & (u >= T(0)) & (v >= T(0)) & (u + v <= det) & (ti > tmin) & (ti < tmax);
+        hit[i] = h;
+        any |= h;
+        t[i] = ti;
+    }
+    return any != 0;
+}
+
 // Eq. 2 in an emulated format decided from double (see EmulatedBound):
 // 0 when the format certainly rejects the pair on u', v' or det, 1 when it
 // certainly finds it inside (u' >= 0, v' >= 0, u' + v' <= det), -1 otherwise.
