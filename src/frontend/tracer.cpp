@@ -94,8 +94,8 @@ struct ImplT final : Tracer::Impl {
 
 Tracer::Tracer(const SphereSet& spheres, const NumFormat& format, bool cull) : spheres_(spheres), format_(format) {
     switch (format.kind) {
-        case NumFormat::Kind::f32: impl_ = std::make_unique<ImplT<ArithF32>>(ArithF32{}, spheres, cull); break;
-        case NumFormat::Kind::f64: impl_ = std::make_unique<ImplT<ArithF64>>(ArithF64{}, spheres, cull); break;
+        case NumFormat::Kind::f32: impl_ = std::make_unique<ImplT<ArithF32>>(ArithF32{format.rti}, spheres, cull); break;
+        case NumFormat::Kind::f64: impl_ = std::make_unique<ImplT<ArithF64>>(ArithF64{format.rti}, spheres, cull); break;
         case NumFormat::Kind::custom:
             impl_ = std::make_unique<ImplT<ArithSoft>>(ArithSoft{format, true}, spheres, cull);
             break;
