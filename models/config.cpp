@@ -73,7 +73,13 @@ ParamSet machine_params() {
     p.add_int("workload.shadow_group_size", 0, 0, 64, "shadow ray group size (0 = the scene's groups.shadow_size)");
     p.add_int("workload.triangles_per_sphere", 0, 0, 64, "triangles per sphere (0 = the scene's value)");
     p.add_string("numerics.format", std::string("float32"),
-                 "number format of the intersectors: float32, float64, fp1-E-M[-rtz][-ftz][-psiunnorm]");
+                 "number format of the intersectors: float32, float64, fp1-E-M[-rtz][-ftz][-psiunnorm], each optionally "
+                 "followed by -wt (numerics.rti_test = watertight)");
+    p.add_string("numerics.rti_test", std::string("division_free"),
+                 "ray-triangle test of the RTI: division_free = the paper's Eq. 2; watertight = Woop, Benthin and Wald "
+                 "(JCGT 2013): no ray passes between triangles sharing an edge; same cycles, only hits may differ (same as "
+                 "the format suffix -wt; docs/ACCURACY.md §6)",
+                 {"division_free", "watertight"});
     p.add_bool("numerics.psi_normalize", true,
                "false: the Plane-Sphere Intersector's adders do not renormalise (paper §4; same as the format "
                "suffix -psiunnorm; emulated, so float32 runs as fp1-8-23)");
@@ -107,6 +113,41 @@ ParamSet machine_params() {
     return p;
 }
 
+NumFormat numerics_from_params(const ParamSet& p) {
+    NumFormat f;
+    try {
+        f = NumFormat::parse(p.get_string("numerics.format"));
+    } catch (const std::invalid_argument& e) {
+        throw InputError(p.origin("numerics.format") + ": " + e.what());
+    }
+    if (p.is_given("numerics.rti_test")) {
+        const bool wt = p.get_string("numerics.rti_test") == "watertight";
+        if (!wt && f.rti == RtiTest::watertight)
+            throw InputError(p.origin("numerics.rti_test") + ": division_free contradicts numerics.format '" + f.name() +
+                             "'");
+        if (wt) f.rti = RtiTest::watertight;
+    }
+    if (p.is_given("numerics.psi_normalize")) {
+        const bool on = p.get_bool("numerics.psi_normalize");
+        if (on && !f.psi_normalize)
+            throw InputError(p.origin("numerics.psi_normalize") + ": true contradicts numerics.format '" + f.name() +
+                             "'");
+        try {
+            f.set_psi_normalize(on);
+        } catch (const std::invalid_argument& e) {
+            throw InputError(p.origin("numerics.psi_normalize") + ": " + e.what());
+        }
+    }
+    return f;
+}
+
+void resolve_numerics(ParamSet& p) {
+    const NumFormat f = numerics_from_params(p);
+    p.set("numerics.format=" + f.name());
+    p.set(std::string("numerics.rti_test=") + (f.rti == RtiTest::watertight ? "watertight" : "division_free"));
+    p.set(std::string("numerics.psi_normalize=") + (f.psi_normalize ? "true" : "false"));
+}
+
 SimConfig config_from_params(const ParamSet& p) {
     SimConfig c;
     c.iccs = std::uint32_t(p.get_int("machine.iccs"));
@@ -128,22 +169,7 @@ SimConfig config_from_params(const ParamSet& p) {
     c.group_size = std::uint32_t(p.get_int("workload.group_size"));
     c.shadow_group_size = std::uint32_t(p.get_int("workload.shadow_group_size"));
     c.triangles_per_sphere = std::uint32_t(p.get_int("workload.triangles_per_sphere"));
-    try {
-        c.format = NumFormat::parse(p.get_string("numerics.format"));
-    } catch (const std::invalid_argument& e) {
-        throw InputError(p.origin("numerics.format") + ": " + e.what());
-    }
-    if (p.is_given("numerics.psi_normalize")) {
-        const bool on = p.get_bool("numerics.psi_normalize");
-        if (on && !c.format.psi_normalize)
-            throw InputError(p.origin("numerics.psi_normalize") + ": true contradicts numerics.format '" +
-                             c.format.name() + "'");
-        try {
-            c.format.set_psi_normalize(on);
-        } catch (const std::invalid_argument& e) {
-            throw InputError(p.origin("numerics.psi_normalize") + ": " + e.what());
-        }
-    }
+    c.format = numerics_from_params(p);
     c.functional = p.get_string("sim.functional") == "trace" ? FunctionalMode::trace : FunctionalMode::compute;
     c.cull = p.get_bool("sim.cull");
     c.mode = p.get_string("sim.mode") == "event" ? SimMode::event : SimMode::cycle;

@@ -57,6 +57,14 @@ struct SimConfig {
 
 ParamSet machine_params();
 SimConfig config_from_params(const ParamSet& p);
+// The intersectors' numerics from numerics.format, numerics.rti_test and
+// numerics.psi_normalize (the keys may only add to the format's suffixes;
+// a contradiction is an InputError naming the key).
+NumFormat numerics_from_params(const ParamSet& p);
+// Writes the resolved numerics back into the three keys (numerics.format with
+// every suffix, the other two agreeing with it), so that --dump-config prints
+// a config that loads again to the same format.
+void resolve_numerics(ParamSet& p);
 // memory.* and area.* keys (models/baseline_memory.cpp).
 void add_memory_system_params(ParamSet& p);
 void memory_system_from_params(const ParamSet& p, SimConfig& c);

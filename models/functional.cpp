@@ -80,8 +80,8 @@ public:
 std::unique_ptr<Functional> Functional::create(const Trace& t, const NumFormat& format, FunctionalMode mode, bool cull) {
     if (mode == FunctionalMode::trace) return std::make_unique<TraceFunctional>();
     switch (format.kind) {
-        case NumFormat::Kind::f32: return std::make_unique<ComputeFunctional<ArithF32>>(t, ArithF32{}, cull);
-        case NumFormat::Kind::f64: return std::make_unique<ComputeFunctional<ArithF64>>(t, ArithF64{}, cull);
+        case NumFormat::Kind::f32: return std::make_unique<ComputeFunctional<ArithF32>>(t, ArithF32{format.rti}, cull);
+        case NumFormat::Kind::f64: return std::make_unique<ComputeFunctional<ArithF64>>(t, ArithF64{format.rti}, cull);
         case NumFormat::Kind::custom: return std::make_unique<ComputeFunctional<ArithSoft>>(t, ArithSoft{format, true}, cull);
     }
     return nullptr;

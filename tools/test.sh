@@ -17,10 +17,7 @@ ctest --test-dir build --output-on-failure -j "$(nproc)"
 cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" \
   -DRAPLAS_SANITIZE=ON >/dev/null
 cmake --build build-asan
-# The stress suite's counted tests (closed-mesh leaks and double hits, grazing
-# rays) assert bounds measured in the Release build; the -O1 sanitizer build
-# counts differently, so they run in the normal build above only.
 UBSAN_OPTIONS=print_stacktrace=1 ctest --test-dir build-asan --output-on-failure -j "$(nproc)" \
-  -E '^equivalence_event_vs_cycle_mode$|^Formats/ClosedMeshes\.|^Formats/Triangles\.GrazingRays'
+  -E '^equivalence_event_vs_cycle_mode$'
 
 tools/fuzz.sh 15

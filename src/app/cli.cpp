@@ -95,7 +95,8 @@ void SceneOptions::add_to(CLI::App* cmd, bool with_format) {
     cmd->add_option("--mesh", mesh, "any OBJ file, framed and lit automatically");
     cmd->add_option("--set", sets, "override a scene key, e.g. --set image.width=128 (repeatable)");
     if (with_format)
-        cmd->add_option("--format", format, "number format of the intersection tests: float32, float64, fp1-E-M[-rtz][-ftz][-psiunnorm]");
+        cmd->add_option("--format", format, "number format of the intersection tests: float32, float64, fp1-E-M[-rtz][-ftz][-psiunnorm]; "
+                        "-wt at the end: watertight ray-triangle test (docs/ACCURACY.md)");
     cmd->add_option("--threads", threads, "worker threads of the front end (default: all cores)")
         ->check(CLI::Range(0u, 1024u));
     cmd->add_flag("--no-cull", no_cull,

@@ -77,6 +77,7 @@ int cmd_simulate(const SimulateArgs& a) {
         mp.set("fifo.triangle_depth=" + std::to_string(a.fifo));
     }
     if (a.dump_config) {
+        model::resolve_numerics(mp);
         std::cout << mp.dump();
         return 0;
     }

@@ -7,40 +7,59 @@
 
 namespace raplas {
 
-NumFormat NumFormat::parse(const std::string& text) {
-    if (text == "float64" || text == "f64" || text == "double") return float64();
-    if (text == "float32" || text == "f32" || text == "float") return float32();
+namespace {
+
+// NumFormat::parse without the -wt suffix (`full` is the text as given, for messages).
+NumFormat parse_arith(const std::string& text, const std::string& full) {
+    if (text == "float64" || text == "f64" || text == "double") return NumFormat::float64();
+    if (text == "float32" || text == "f32" || text == "float") return NumFormat::float32();
     NumFormat f;
-    f.kind = Kind::custom;
+    f.kind = NumFormat::Kind::custom;
     int s = 0, e = 0, m = 0, used = 0;
     if (std::sscanf(text.c_str(), "fp%d-%d-%d%n", &s, &e, &m, &used) != 3 || s != 1)
-        throw std::invalid_argument("number format '" + text +
-                                    "' is not float64, float32 or fp1-<exp>-<man>[-rne|-rtz][-ftz][-psiunnorm]");
+        throw std::invalid_argument("number format '" + full +
+                                    "' is not float64, float32 or fp1-<exp>-<man>[-rne|-rtz][-ftz][-psiunnorm], "
+                                    "optionally followed by -wt");
     std::string rest = text.substr(static_cast<std::size_t>(used));
     while (!rest.empty()) {
         if (rest.rfind("-rne", 0) == 0) { f.rounding = Rounding::nearest_even; rest = rest.substr(4); }
         else if (rest.rfind("-rtz", 0) == 0) { f.rounding = Rounding::toward_zero; rest = rest.substr(4); }
         else if (rest.rfind("-ftz", 0) == 0) { f.flush_subnormals = true; rest = rest.substr(4); }
         else if (rest.rfind("-psiunnorm", 0) == 0) { f.psi_normalize = false; rest = rest.substr(10); }
-        else throw std::invalid_argument("number format '" + text + "': unknown suffix '" + rest + "'");
+        else throw std::invalid_argument("number format '" + full + "': unknown suffix '" + rest + "'");
     }
-    if (e < 2 || e > 11) throw std::invalid_argument("number format '" + text + "': exponent bits must be 2..11");
-    if (m < 1 || m > 25) throw std::invalid_argument("number format '" + text + "': fraction bits must be 1..25");
+    if (e < 2 || e > 11) throw std::invalid_argument("number format '" + full + "': exponent bits must be 2..11");
+    if (m < 1 || m > 25) throw std::invalid_argument("number format '" + full + "': fraction bits must be 1..25");
     f.exp_bits = e;
     f.man_bits = m;
     if (e == 8 && m == 23 && f.rounding == Rounding::nearest_even && !f.flush_subnormals && f.psi_normalize)
-        return float32();
+        return NumFormat::float32();
     return f;
 }
 
+}  // namespace
+
+NumFormat NumFormat::parse(const std::string& full) {
+    std::string text = full;
+    RtiTest rti = RtiTest::division_free;
+    if (text.size() > 3 && text.compare(text.size() - 3, 3, "-wt") == 0) {
+        rti = RtiTest::watertight;
+        text.resize(text.size() - 3);
+    }
+    NumFormat out = parse_arith(text, full);
+    out.rti = rti;
+    return out;
+}
+
 std::string NumFormat::name() const {
-    if (kind == Kind::f64) return "float64";
-    if (kind == Kind::f32) return "float32";
+    const std::string wt = rti == RtiTest::watertight ? "-wt" : "";
+    if (kind == Kind::f64) return "float64" + wt;
+    if (kind == Kind::f32) return "float32" + wt;
     std::string n = "fp1-" + std::to_string(exp_bits) + "-" + std::to_string(man_bits);
     if (rounding == Rounding::toward_zero) n += "-rtz";
     if (flush_subnormals) n += "-ftz";
     if (!psi_normalize) n += "-psiunnorm";
-    return n;
+    return n + wt;
 }
 
 void NumFormat::set_psi_normalize(bool on) {

@@ -125,8 +125,10 @@ TraceShape trace_file_shape(const std::string& path) {
         return t;
     for (auto& d : dims)
         if (!get(d)) return t;
-    if (!get(spheres) || spheres > std::uint64_t(size) / 24 || !in.seekg(std::streamoff(spheres * 24), std::ios::cur) ||
-        !get(tris) || tris > std::uint64_t(size) / 52 || !in.seekg(std::streamoff(tris * 52), std::ios::cur) ||
+    if (!get(spheres) || spheres > std::uint64_t(size) / kTraceSphereBytes ||
+        !in.seekg(std::streamoff(spheres * kTraceSphereBytes), std::ios::cur) ||
+        !get(tris) || tris > std::uint64_t(size) / kTraceTriangleBytes ||
+        !in.seekg(std::streamoff(tris * kTraceTriangleBytes), std::ios::cur) ||
         !get(primary) || !get(groups) || groups < primary || groups > std::uint64_t(size))
         return t;
     const std::uint32_t n = dims[2], ns = dims[3];  // width, height, group size, shadow group size, K
@@ -160,7 +162,7 @@ MemoryItem trace_memory(const TraceShape& t, bool moved_from_frame) {
 }
 
 MemoryItem trace_file_memory(const TraceShape& t) {
-    const double b = 64 + double(t.spheres) * 24 + double(t.triangles) * 52 +
+    const double b = 64 + double(t.spheres) * kTraceSphereBytes + double(t.triangles) * kTraceTriangleBytes +
                      double(t.primary_groups) * file_group_bytes(t.group_size) +
                      double(t.shadow_groups) * file_group_bytes(t.shadow_group_size) +
                      t.primary_sphere_hits * file_hit_bytes(t.group_size) +

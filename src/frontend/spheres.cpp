@@ -9,7 +9,7 @@ namespace raplas {
 TriangleRec make_triangle_record(const Mesh& mesh, std::size_t i) {
     Vec3d v0 = to_d(mesh.corner(i, 0)), v1 = to_d(mesh.corner(i, 1)), v2 = to_d(mesh.corner(i, 2));
     Vec3d e1 = v1 - v0, e2 = v2 - v0;
-    return {to_f(v0), to_f(e1), to_f(e2), to_f(cross(e1, e2))};
+    return {to_f(v0), to_f(e1), to_f(e2), to_f(cross(e1, e2)), mesh.corner(i, 1), mesh.corner(i, 2)};
 }
 
 double conservative_margin(double unit_roundoff, double extent) {

@@ -186,6 +186,7 @@ void write_payload(Writer& w, const Trace& t) {
     for (std::size_t i = 0; i < t.triangles.size(); ++i) {
         const auto& tr = t.triangles[i];
         w.put_vec(tr.v0); w.put_vec(tr.e1); w.put_vec(tr.e2); w.put_vec(tr.n);
+        w.put_vec(tr.v1); w.put_vec(tr.v2);
         w.put(t.tri_mesh_index[i]);
     }
     w.put(t.primary_groups);
@@ -259,7 +260,7 @@ Trace parse_trace(const std::string& bytes, const std::string& name) {
     t.width = r.get<std::uint32_t>(); t.height = r.get<std::uint32_t>();
     t.group_size = r.get<std::uint32_t>(); t.shadow_group_size = r.get<std::uint32_t>();
     t.tris_per_sphere = r.get<std::uint32_t>();
-    auto ns = r.get_count(24);
+    auto ns = r.get_count(kTraceSphereBytes);
     t.spheres.resize(ns); t.first_tri.resize(ns); t.tri_count.resize(ns);
     for (std::size_t i = 0; i < ns; ++i) {
         t.spheres[i].c = r.get_vec();
@@ -267,11 +268,12 @@ Trace parse_trace(const std::string& bytes, const std::string& name) {
         t.first_tri[i] = r.get<std::uint32_t>();
         t.tri_count[i] = r.get<std::uint32_t>();
     }
-    auto nt = r.get_count(52);
+    auto nt = r.get_count(kTraceTriangleBytes);
     t.triangles.resize(nt); t.tri_mesh_index.resize(nt);
     for (std::size_t i = 0; i < nt; ++i) {
         auto& tr = t.triangles[i];
         tr.v0 = r.get_vec(); tr.e1 = r.get_vec(); tr.e2 = r.get_vec(); tr.n = r.get_vec();
+        tr.v1 = r.get_vec(); tr.v2 = r.get_vec();
         t.tri_mesh_index[i] = r.get<std::int32_t>();
     }
     // Sphere Memory must tile Triangle Memory in order.

@@ -78,7 +78,7 @@ struct ImplT final : Tracer::Impl {
         if (record) out.sphere_list = std::vector<SphereHitRec>(list.begin(), list.end());
         out.counts.sphere_hits = list.size();
         if constexpr (kNative) {
-            if (!per_ray) {
+            if (!per_ray && rti_of(a) == RtiTest::division_free) {
                 triangles_by_row(g, rays, list, out);
                 return;
             }
@@ -109,7 +109,7 @@ struct ImplT final : Tracer::Impl {
         }
     }
 
-    // Native formats: each triangle of a hit sphere against whole rows of the
+    // Native formats, division-free test: each triangle of a hit sphere against whole rows of the
     // group at once (rays_hit_triangle_native, vectorised, bit-identical to
     // the ray-by-ray test); only the columns of the sphere's mask are kept.
     // Every ray of a group shares the origin and (tmin, tmax).
@@ -170,8 +170,8 @@ struct ImplT final : Tracer::Impl {
 
 Tracer::Tracer(const SphereSet& spheres, const NumFormat& format, bool cull) : spheres_(spheres), format_(format) {
     switch (format.kind) {
-        case NumFormat::Kind::f32: impl_ = std::make_unique<ImplT<ArithF32>>(ArithF32{}, spheres, cull); break;
-        case NumFormat::Kind::f64: impl_ = std::make_unique<ImplT<ArithF64>>(ArithF64{}, spheres, cull); break;
+        case NumFormat::Kind::f32: impl_ = std::make_unique<ImplT<ArithF32>>(ArithF32{format.rti}, spheres, cull); break;
+        case NumFormat::Kind::f64: impl_ = std::make_unique<ImplT<ArithF64>>(ArithF64{format.rti}, spheres, cull); break;
         case NumFormat::Kind::custom:
             impl_ = std::make_unique<ImplT<ArithSoft>>(ArithSoft{format, true}, spheres, cull);
             break;

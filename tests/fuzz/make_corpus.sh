@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Regenerates the generated part of the fuzz seed corpora (run once; the
 # output is checked in): copies of the shipped scenes and configs, the
-# resolved built-in scene and configs as dumped by raplas, and three tiny
+# resolved built-in scene and configs as dumped by raplas, and five tiny
 # valid traces. The OBJ seeds in corpus/fuzz_obj and the regression inputs
 # (inputs that once found a bug) are not generated.
 # Usage: tests/fuzz/make_corpus.sh [path/to/raplas]   (default: build/raplas)
@@ -26,6 +26,21 @@ small=(--set image.width=8 --set image.height=8 --set groups.size=4 --set groups
   --set spheres.triangles_per_sphere=4 --format float64 --out "$c/fuzz_trace/builtin_8x8_g4_f64.trace"
 "$raplas" trace "${small[@]}" --mesh "$c/fuzz_obj/quad.obj" --format fp1-8-15-rtz \
   --out "$c/fuzz_trace/quad_8x8_g4_fp24.trace"
+"$raplas" trace "${small[@]}" --mesh "$c/fuzz_obj/quad.obj" --format float32-wt \
+  --out "$c/fuzz_trace/quad_8x8_g4_wt.trace"
+# The fp24 trace with its format named by the explicit (default) rounding
+# suffix "-rne" instead of "-rtz", same length, checksum recomputed.
+python3 - "$c/fuzz_trace/quad_8x8_g4_fp24.trace" "$c/fuzz_trace/format_name_rne.trace" <<'PY'
+import struct, sys
+b = bytearray(open(sys.argv[1], "rb").read())
+i = b.index(b"fp1-8-15-rtz")
+b[i:i + 12] = b"fp1-8-15-rne"
+h = 0xcbf29ce484222325
+for x in b[32:]:
+    h = ((h ^ x) * 0x100000001b3) & 0xffffffffffffffff
+b[24:32] = struct.pack("<Q", h)
+open(sys.argv[2], "wb").write(b)
+PY
 for f in "$c"/*/*; do
   size=$(stat -c %s "$f")
   if ((size >= 65536)); then echo "$f: $size bytes, seeds must stay under 64 KB" >&2; exit 1; fi

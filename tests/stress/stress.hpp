@@ -33,6 +33,13 @@ inline const std::vector<std::string>& formats() {
     return f;
 }
 
+// The same formats with the watertight ray-triangle test.
+inline std::vector<std::string> formats_with_watertight() {
+    std::vector<std::string> f = formats();
+    for (const std::string& x : formats()) f.push_back(x + "-wt");
+    return f;
+}
+
 inline double uni(Rng& rng, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
 inline Vec3d rvec(Rng& rng, double lo, double hi) { return {uni(rng, lo, hi), uni(rng, lo, hi), uni(rng, lo, hi)}; }
 inline Vec3d random_unit(Rng& rng) {

@@ -23,6 +23,9 @@ std::vector<std::string> tracer_formats() {
     std::vector<std::string> f = formats();
     f.push_back("fp1-7-16-psiunnorm");
     f.push_back("fp1-7-16-rtz-psiunnorm");
+    f.push_back("float32-wt");
+    f.push_back("float64-wt");
+    f.push_back("fp1-7-16-wt");
     return f;
 }
 

@@ -1,5 +1,6 @@
 // The machine config keys of the intersectors' numerics (numerics.format,
-// numerics.psi_normalize) and how they combine.
+// numerics.rti_test, numerics.psi_normalize), how they combine, and the
+// resolved form --dump-config prints.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -46,6 +47,29 @@ TEST(NumericsConfig, ContradictionsNameTheKey) {
                   .find("numerics.psi_normalize"),
               std::string::npos);
     EXPECT_NE(error_of({"numerics.format=fp1-7"}).find("numerics.format"), std::string::npos);
+}
+
+TEST(NumericsConfig, DumpedConfigLoadsAgainToTheSameNumerics) {
+    const std::initializer_list<std::initializer_list<std::string>> cases = {
+        {},
+        {"numerics.format=fp1-7-16-psiunnorm-wt"},
+        {"numerics.format=fp1-7-16", "numerics.rti_test=watertight", "numerics.psi_normalize=false"},
+        {"numerics.psi_normalize=false"},
+        {"numerics.format=float64-wt"},
+        {"numerics.format=fp1-8-15-rtz", "numerics.rti_test=division_free"},
+    };
+    for (const auto& sets : cases) {
+        raplas::ParamSet p = raplas::model::machine_params();
+        for (const auto& s : sets) p.set(s);
+        const NumFormat want = raplas::model::config_from_params(p).format;
+        raplas::model::resolve_numerics(p);
+        EXPECT_EQ(p.get_string("numerics.format"), want.name());
+        EXPECT_EQ(p.get_string("numerics.rti_test") == "watertight", want.rti == raplas::RtiTest::watertight);
+        EXPECT_EQ(p.get_bool("numerics.psi_normalize"), want.psi_normalize);
+        raplas::ParamSet back = raplas::model::machine_params();
+        back.load_text(p.dump(), "dump");
+        EXPECT_EQ(raplas::model::config_from_params(back).format, want) << want.name();
+    }
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "raplas/frontend/frame.hpp"
+#include "raplas/frontend/memory_estimate.hpp"
 #include "raplas/frontend/trace_io.hpp"
 #include "raplas/scene/scene.hpp"
 #include "raplas/util/error.hpp"
@@ -80,7 +81,9 @@ void expect_same_trace(const Trace& a, const Trace& b) {
     ASSERT_EQ(a.triangles.size(), b.triangles.size());
     for (std::size_t i = 0; i < a.triangles.size(); ++i) {
         const auto &x = a.triangles[i], &y = b.triangles[i];
-        ASSERT_TRUE(same(x.v0, y.v0) && same(x.e1, y.e1) && same(x.e2, y.e2) && same(x.n, y.n)) << "triangle " << i;
+        ASSERT_TRUE(same(x.v0, y.v0) && same(x.e1, y.e1) && same(x.e2, y.e2) && same(x.n, y.n) && same(x.v1, y.v1) &&
+                    same(x.v2, y.v2))
+            << "triangle " << i;
     }
     EXPECT_EQ(a.tri_mesh_index, b.tri_mesh_index);
     EXPECT_EQ(a.primary_groups, b.primary_groups);
@@ -346,6 +349,15 @@ TEST_F(TraceFiles, WriteAndReadThroughTheFilesystem) {
     EXPECT_EQ(entries, 1u);
     Trace back = read_trace(p);
     expect_same_trace(r.trace, back);
+    // the memory check reads the shape from the file's header and sizes the
+    // read buffer from it: the record sizes of this version
+    const TraceShape shape = trace_file_shape(p);
+    EXPECT_EQ(shape.spheres, r.trace.spheres.size());
+    EXPECT_EQ(shape.triangles, r.trace.triangles.size());
+    EXPECT_EQ(shape.groups(), r.trace.groups.size());
+    const double buffer = trace_file_memory(shape).bytes;
+    EXPECT_GE(buffer, 0.9 * double(r.bytes.size()));
+    EXPECT_LE(buffer, 1.2 * double(r.bytes.size()));
     // overwrite in place
     write_trace(p, back);
     expect_same_trace(r.trace, read_trace(p));

@@ -30,9 +30,12 @@ struct Plane {
 
 // Triangle Memory record: first vertex, two edges and the (unnormalised) normal
 // E = E1 x E2, precomputed by the host (paper §4: "location vectors V0, V1 and
-// V2, edge vectors E1 and E2, and normal vector E").
+// V2, edge vectors E1 and E2, and normal vector E"). The division-free test
+// reads V0, E1, E2, E; the watertight test (watertight.hpp) V0, V1, V2, the
+// mesh's own vertices, so that triangles sharing an edge share its data.
 struct TriangleRec {
     Vec3f v0, e1, e2, n;
+    Vec3f v1{}, v2{};  // the mesh vertices V1, V2 (read by the watertight test)
 };
 
 // A ray and the open interval (tmin, tmax) of its parameter; the point at
@@ -64,8 +67,18 @@ inline void keep_nearest(Hit& best, double t, std::int32_t tri) {
 
 template <class A> struct SphereA { typename A::T cx, cy, cz, r; };
 template <class A> struct PlaneA { typename A::T nx, ny, nz, w; };
+// The record as the selected RTI test reads it: division-free V0, E1, E2, E;
+// watertight V0 and, in e1 and e2, V1 and V2, and in n[0] a flag the host
+// derives from the record: 0 for a zero-area triangle (E = 0 exactly), else 1.
 template <class A> struct TriA { typename A::T v0[3], e1[3], e2[3], n[3]; };
-template <class A> struct RayA { typename A::T o[3], d[3], tmin, tmax; };
+// The ray; for the watertight test also its per-ray precomputation: the axis
+// kz of the largest |D| component, kx and ky (swapped when D[kz] < 0), and
+// the shear sx = D[kx]/D[kz], sy = D[ky]/D[kz], sz = 1/D[kz] in the format.
+template <class A> struct RayA {
+    typename A::T o[3], d[3], tmin, tmax;
+    typename A::T sx{}, sy{}, sz{};
+    int kx = 0, ky = 1, kz = 2;
+};
 
 template <class A> inline SphereA<A> load(const A& a, const Sphere& s) {
     return {a.cvt(s.c.x), a.cvt(s.c.y), a.cvt(s.c.z), a.cvt(s.r)};
@@ -75,11 +88,18 @@ template <class A> inline PlaneA<A> load(const A& a, const Plane& p) {
 }
 template <class A> inline TriA<A> load(const A& a, const TriangleRec& t) {
     TriA<A> r;
+    const bool wt = rti_of(a) == RtiTest::watertight;
     for (int i = 0; i < 3; ++i) {
-        r.v0[i] = a.cvt(t.v0[static_cast<std::size_t>(i)]);
-        r.e1[i] = a.cvt(t.e1[static_cast<std::size_t>(i)]);
-        r.e2[i] = a.cvt(t.e2[static_cast<std::size_t>(i)]);
-        r.n[i] = a.cvt(t.n[static_cast<std::size_t>(i)]);
+        const std::size_t k = static_cast<std::size_t>(i);
+        r.v0[i] = a.cvt(t.v0[k]);
+        r.e1[i] = a.cvt(wt ? t.v1[k] : t.e1[k]);
+        r.e2[i] = a.cvt(wt ? t.v2[k] : t.e2[k]);
+        r.n[i] = a.cvt(t.n[k]);
+    }
+    if (wt) {
+        const bool zero_area = t.n.x == 0.0f && t.n.y == 0.0f && t.n.z == 0.0f;
+        r.n[0] = a.cvt(zero_area ? 0.0 : 1.0);
+        r.n[1] = r.n[2] = a.cvt(0.0);
     }
     return r;
 }
@@ -91,6 +111,20 @@ template <class A> inline RayA<A> load(const A& a, const Ray& ray) {
     }
     r.tmin = a.cvt(ray.tmin);
     r.tmax = a.cvt(ray.tmax);
+    if (rti_of(a) == RtiTest::watertight) {
+        const double d[3] = {ray.d.x, ray.d.y, ray.d.z};
+        int kz = 0;  // largest |D| component (the first on ties)
+        if (std::fabs(d[1]) > std::fabs(d[kz])) kz = 1;
+        if (std::fabs(d[2]) > std::fabs(d[kz])) kz = 2;
+        int kx = (kz + 1) % 3, ky = (kx + 1) % 3;
+        if (d[kz] < 0) std::swap(kx, ky);  // keep the winding
+        r.kx = kx;
+        r.ky = ky;
+        r.kz = kz;
+        r.sx = a.div(r.d[kx], r.d[kz]);
+        r.sy = a.div(r.d[ky], r.d[kz]);
+        r.sz = a.div(a.cvt(1.0), r.d[kz]);
+    }
     return r;
 }
 
@@ -352,7 +386,12 @@ inline bool ray_hits_triangle_ops(const A& a, const RayA<A>& r, const TriA<A>& t
 }
 
 template <class A>
+inline bool ray_hits_triangle_watertight(const A& a, const RayA<A>& r, const TriA<A>& tr, double& t_out);
+
+// The RTI's test of the policy's format: Eq. 2, or the watertight test.
+template <class A>
 inline bool ray_hits_triangle(const A& a, const RayA<A>& r, const TriA<A>& tr, double& t_out) {
+    if (rti_of(a) == RtiTest::watertight) return ray_hits_triangle_watertight(a, r, tr, t_out);
     return ray_hits_triangle_ops(a, r, tr, t_out);
 }
 
@@ -396,6 +435,8 @@ inline bool rays_hit_triangle_native(const T o[3], T tmin, T tmax, const T* dx, 
     return any != 0;
 }
 
+bool watertight_certain_miss(const EmulatedBound& b, const RayA<ArithSoft>& r, const TriA<ArithSoft>& tr);
+
 // Eq. 2 in an emulated format decided from double (see EmulatedBound):
 // 0 when the format certainly rejects the pair on u', v' or det, 1 when it
 // certainly finds it inside (u' >= 0, v' >= 0, u' + v' <= det), -1 otherwise.
@@ -435,6 +476,10 @@ inline int ray_triangle_shortcut(const EmulatedBound& b, const RayA<ArithSoft>& 
 }
 
 inline bool ray_hits_triangle(const ArithSoft& a, const RayA<ArithSoft>& r, const TriA<ArithSoft>& tr, double& t_out) {
+    if (a.f.rti == RtiTest::watertight) {
+        if (tr.n[0] != 0 && watertight_certain_miss(EmulatedBound(a.f), r, tr)) return false;
+        return ray_hits_triangle_watertight(a, r, tr, t_out);
+    }
     const int q = ray_triangle_shortcut(EmulatedBound(a.f), r, tr);
     if (q == 0) return false;
     if (q < 0) return ray_hits_triangle_ops(a, r, tr, t_out);
@@ -453,3 +498,5 @@ inline bool ray_hits_triangle(const ArithSoft& a, const RayA<ArithSoft>& r, cons
 }
 
 }  // namespace raplas
+
+#include "raplas/core/watertight.hpp"  // the watertight kernel (needs the types above)

@@ -13,6 +13,10 @@ namespace raplas {
 
 enum class Rounding : std::uint8_t { nearest_even, toward_zero };
 
+// The Ray-Triangle Intersector's test: the paper's division-free Eq. 2, or the
+// watertight test of Woop, Benthin and Wald (JCGT 2013; watertight.hpp).
+enum class RtiTest : std::uint8_t { division_free, watertight };
+
 // A binary floating-point format: 1 sign bit, `exp_bits` exponent bits (IEEE
 // bias), `man_bits` stored fraction bits (hidden leading 1), gradual underflow
 // unless `flush_subnormals`. float32 and float64 run natively; any other
@@ -28,11 +32,14 @@ struct NumFormat {
     // cancellation (paper §4; see ArithSoft::sum_unnormalized). Emulated
     // formats only; the Ray-Triangle Intersector always normalises.
     bool psi_normalize = true;
+    // The ray-triangle test computed in this format (suffix -wt: watertight).
+    RtiTest rti = RtiTest::division_free;
 
     static NumFormat float64() { return {Kind::f64, 11, 52, Rounding::nearest_even, false}; }
     static NumFormat float32() { return {Kind::f32, 8, 23, Rounding::nearest_even, false}; }
     // "float64", "float32", or "fp<S>-<E>-<M>[-rne|-rtz][-ftz][-psiunnorm]"
-    // e.g. "fp1-7-16". Throws std::invalid_argument with a one-line reason.
+    // e.g. "fp1-7-16"; any of them with "-wt" at the end selects the watertight
+    // ray-triangle test. Throws std::invalid_argument with a one-line reason.
     static NumFormat parse(const std::string& text);
     std::string name() const;
     // Switches the PSI normalisation; float32 becomes its emulated twin
@@ -56,7 +63,8 @@ struct NumFormat {
     double round_reference(double x, int residual_sign = 0) const;
     bool operator==(const NumFormat& o) const {
         return kind == o.kind && exp_bits == o.exp_bits && man_bits == o.man_bits &&
-               rounding == o.rounding && flush_subnormals == o.flush_subnormals && psi_normalize == o.psi_normalize;
+               rounding == o.rounding && flush_subnormals == o.flush_subnormals && psi_normalize == o.psi_normalize &&
+               rti == o.rti;
     }
 };
 
@@ -96,6 +104,7 @@ inline double NumFormat::round(double x, int residual_sign) const {
 template <class F>
 struct ArithNative {
     using T = F;
+    RtiTest rti = RtiTest::division_free;
     T cvt(double x) const { return static_cast<T>(x); }
     T add(T a, T b) const { return a + b; }
     T sub(T a, T b) const { return a - b; }
@@ -156,16 +165,20 @@ struct ArithSoft {
     T add_unnormalized(T a, T b) const;  // sum_unnormalized of {a, b}
 };
 
+// The ray-triangle test an arithmetic policy computes.
+template <class F> inline RtiTest rti_of(const ArithNative<F>& a) { return a.rti; }
+inline RtiTest rti_of(const ArithSoft& a) { return a.f.rti; }
+
 // Calls fn with the arithmetic policy of format f (ArithF32, ArithF64 or
 // ArithSoft) and returns its result: one generic body for every format.
 template <class Fn>
 inline decltype(auto) with_arith(const NumFormat& f, Fn&& fn) {
     switch (f.kind) {
-        case NumFormat::Kind::f64: return fn(ArithF64{});
+        case NumFormat::Kind::f64: return fn(ArithF64{f.rti});
         case NumFormat::Kind::custom: return fn(ArithSoft{f, true});
         case NumFormat::Kind::f32: break;
     }
-    return fn(ArithF32{});
+    return fn(ArithF32{f.rti});
 }
 
 }  // namespace raplas

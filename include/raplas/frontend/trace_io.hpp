@@ -12,7 +12,10 @@
 
 namespace raplas {
 
-constexpr std::uint32_t kTraceVersion = 1;
+constexpr std::uint32_t kTraceVersion = 2;  // 2: triangle records carry V1 and V2
+// Bytes of one sphere and one triangle record in the file (docs/TRACE.md).
+constexpr std::uint64_t kTraceSphereBytes = 24;    // vec3 centre, f32 radius, u32 first, u32 count
+constexpr std::uint64_t kTraceTriangleBytes = 76;  // vec3 V0, E1, E2, E, V1, V2, i32 mesh index
 
 struct TraceGroup {
     GroupKind kind = GroupKind::primary;
