@@ -77,8 +77,8 @@ ParamSet machine_params() {
                  "followed by -wt (numerics.rti_test = watertight)");
     p.add_string("numerics.rti_test", std::string("division_free"),
                  "ray-triangle test of the RTI: division_free = the paper's Eq. 2; watertight = Woop, Benthin and Wald "
-                 "(JCGT 2013): no ray passes between triangles sharing an edge; same cycles, only hits may differ (same as "
-                 "the format suffix -wt; docs/ACCURACY.md §6)",
+                 "(JCGT 2013): no ray passes between triangles sharing an edge; same RTI latency and throughput, only hits "
+                 "(and the shadow rays they place) may differ (same as the format suffix -wt; docs/ACCURACY.md §6)",
                  {"division_free", "watertight"});
     p.add_bool("numerics.psi_normalize", true,
                "false: the Plane-Sphere Intersector's adders do not renormalise (paper §4; same as the format "
