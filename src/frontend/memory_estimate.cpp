@@ -48,7 +48,8 @@ std::vector<MemoryItem> frame_memory_up_front(const Scene& s, const FrameOptions
     // sphere builder's working arrays (about as much again).
     const double set = double(spheres) * (sizeof(Sphere) + 8) + double(tris) * (sizeof(TriangleRec) + 8);
     items.push_back({"spheres and triangles (" + count(spheres) + " spheres, " + count(tris) + " triangles)",
-                     2 * set + double(spheres) * 4 * fb + double(tris) * 12 * fb});
+                     // (the builder's arrays hold no copy of the records' V1, V2)
+                     2 * set - double(tris) * 2 * sizeof(Vec3f) + double(spheres) * 4 * fb + double(tris) * 12 * fb});
     // Per pixel: primary ray, nearest hit, work counts, visibility, shading
     // terms, linear and 8-bit colour.
     items.push_back({"image " + std::to_string(s.width) + "x" + std::to_string(s.height),
