@@ -458,8 +458,8 @@ TYPED_TEST(IntersectKernel, BatchedPlaneTestsEqualTheScalarTest) {
         EXPECT_LT(want.size(), spheres.size());
         for (std::size_t k = 0; k < want.size(); ++k) {
             ASSERT_EQ(got[k].sphere, want[k].sphere) << "n=" << n;
-            ASSERT_EQ(got[k].rows, want[k].rows) << "n=" << n;
-            ASSERT_EQ(got[k].cols, want[k].cols) << "n=" << n;
+            ASSERT_EQ(std::uint64_t{got[k].rows}, std::uint64_t{want[k].rows}) << "n=" << n;
+            ASSERT_EQ(std::uint64_t{got[k].cols}, std::uint64_t{want[k].cols}) << "n=" << n;
         }
     }
 }

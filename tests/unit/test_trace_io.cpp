@@ -106,8 +106,8 @@ void expect_same_trace(const Trace& a, const Trace& b) {
         ASSERT_EQ(g.sphere_hits.size(), h.sphere_hits.size()) << gi;
         for (std::size_t k = 0; k < g.sphere_hits.size(); ++k) {
             ASSERT_EQ(g.sphere_hits[k].sphere, h.sphere_hits[k].sphere) << gi;
-            ASSERT_EQ(g.sphere_hits[k].rows, h.sphere_hits[k].rows) << gi;
-            ASSERT_EQ(g.sphere_hits[k].cols, h.sphere_hits[k].cols) << gi;
+            ASSERT_EQ(std::uint64_t{g.sphere_hits[k].rows}, std::uint64_t{h.sphere_hits[k].rows}) << gi;
+            ASSERT_EQ(std::uint64_t{g.sphere_hits[k].cols}, std::uint64_t{h.sphere_hits[k].cols}) << gi;
         }
         ASSERT_EQ(g.counts.plane_tests, h.counts.plane_tests) << gi;
         ASSERT_EQ(g.counts.sphere_hits, h.counts.sphere_hits) << gi;

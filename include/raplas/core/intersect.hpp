@@ -311,7 +311,8 @@ inline void plane_masks(const ArithSoft& a, const PlaneA<ArithSoft>* planes, std
 
 // A sphere hit by at least one valid row plane and one valid column plane.
 // Packed to 20 bytes (4-byte alignment): a frame's trace holds one per sphere
-// a group hits, hundreds of millions at 512 x 512 (docs/MEMORY.md).
+// a group hits, hundreds of millions at 512 x 512 (docs/MEMORY.md). Read the
+// masks by value: a reference to rows or cols would be misaligned.
 #pragma pack(push, 4)
 struct SphereHitRec {
     std::uint32_t sphere;
