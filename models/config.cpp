@@ -97,8 +97,11 @@ ParamSet machine_params() {
     p.add_string("sim.estimate", std::string("exact"),
                  "exact = simulate every pass; sample_passes = simulate every primary pass and a stratified "
                  "sample of the shadow passes and extrapolate total cycles, with a 95 % confidence half-width "
-                 "(the other statistics then cover the simulated passes only)",
-                 {"exact", "sample_passes"});
+                 "(the other statistics then cover the simulated passes only); fifo_bound = a lower bound of "
+                 "the exact total in closed form from the trace: every pass timed with unbounded Triangle, "
+                 "PlaneID and First-Triangle-ID FIFOs (exact when none of them fills; the per-block "
+                 "statistics are not computed)",
+                 {"exact", "sample_passes", "fifo_bound"});
     p.add_real("sim.sample_fraction", 0.1, 1e-6, 1.0, "sample_passes: fraction of the shadow passes simulated (at least 2)");
     p.add_int("sim.sample_seed", 1, 0, 1000000000, "sample_passes: seeds the pass drawn in each stratum");
     p.add_int("sim.sync_cycles", 4096, 1, 1000000000, "cycles simulated between SystemC time updates (1 with --vcd)");
@@ -174,7 +177,10 @@ SimConfig config_from_params(const ParamSet& p) {
     c.cull = p.get_bool("sim.cull");
     c.mode = p.get_string("sim.mode") == "event" ? SimMode::event : SimMode::cycle;
     c.sync_cycles = std::uint64_t(p.get_int("sim.sync_cycles"));
-    c.estimate = p.get_string("sim.estimate") == "sample_passes" ? Estimate::sample_passes : Estimate::exact;
+    const std::string estimate = p.get_string("sim.estimate");
+    c.estimate = estimate == "sample_passes" ? Estimate::sample_passes
+                 : estimate == "fifo_bound"  ? Estimate::fifo_bound
+                                             : Estimate::exact;
     c.sample_fraction = p.get_real("sim.sample_fraction");
     c.sample_seed = std::uint64_t(p.get_int("sim.sample_seed"));
     c.watchdog_cycles = std::uint64_t(p.get_int("sim.watchdog_cycles"));
@@ -182,6 +188,9 @@ SimConfig config_from_params(const ParamSet& p) {
     const std::string fault = p.get_string("sim.fault");
     c.fault = fault == "stuck_rti" ? Fault::stuck_rti : fault == "stuck_psi" ? Fault::stuck_psi : Fault::none;
     c.fault_icc = std::uint32_t(p.get_int("sim.fault_icc"));
+    if (c.estimate == Estimate::fifo_bound && c.fault != Fault::none)
+        throw InputError(p.origin("sim.fault") + ": sim.fault = " + fault +
+                         " needs a simulation, but sim.estimate = fifo_bound computes the cycles in closed form");
     if (c.fault_icc >= c.iccs)
         throw InputError(p.origin("sim.fault_icc") + ": sim.fault_icc = " + std::to_string(c.fault_icc) +
                          " but the machine has " + std::to_string(c.iccs) + " ICCs");

@@ -11,7 +11,7 @@
 namespace raplas::model {
 
 enum class SimMode { cycle, event };
-enum class Estimate { exact, sample_passes };
+enum class Estimate { exact, sample_passes, fifo_bound };
 
 // The memory system (paper Figure 5, §5.2; docs/MODEL.md §6): the streaming
 // machine (the SystemC model), or a baseline computed from the same trace.
@@ -46,6 +46,9 @@ struct SimConfig {
     // sample_passes: simulate every primary pass and a stratified sample of
     // the shadow passes, extrapolate the shadow passes' cycles (passes are
     // independent: each starts from empty FIFOs and record 0).
+    // fifo_bound: every pass timed in closed form with unbounded Triangle,
+    // PlaneID and First-Triangle-ID FIFOs, a lower bound of the exact count
+    // (models/bound_engine.cpp).
     Estimate estimate = Estimate::exact;
     double sample_fraction = 0.1;
     std::uint64_t sample_seed = 1;

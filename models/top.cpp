@@ -47,10 +47,14 @@ Top::Top(sc_core::sc_module_name n, const SimConfig& cfg, const Trace& trace, co
     }
     sphere_memory.load(std::move(srec));
     triangle_memory.load(trace.triangles, std::move(sphere_of));
+    if (cfg.estimate == Estimate::fifo_bound && (!opt_.vcd_path.empty() || opt_.on_cycle))
+        throw InputError("sim.estimate = fifo_bound computes the cycles in closed form: no waveform (--vcd) or "
+                         "per-cycle hook; use sim.estimate = exact");
     if (!opt_.vcd_path.empty()) setup_vcd();
     // The event-driven mode is exact; waveforms and per-cycle hooks need every cycle.
     event_mode_ = cfg.mode == SimMode::event && !vcd_ && !opt_.on_cycle;
-    if (event_mode_) {
+    const bool bound = cfg.estimate == Estimate::fifo_bound;
+    if (event_mode_ || bound) {
         ref_fifo_ = std::make_unique<SphereFifo>("shared_sphere_fifo", cfg.icc.sphere_fifo);
         ref_psi_ = std::make_unique<PlaneSphereIntersector>("shared_psi", cfg.icc.psi);
         ref_decoder_ = std::make_unique<Decoder>("shared_decoder");
@@ -320,26 +324,21 @@ void Top::extrapolate(const std::vector<Host::Pass>& passes) {
 void Top::run() {
     try {
         const auto passes = host.plan(trace_.primary_groups, std::uint32_t(trace_.groups.size()));
-        const std::vector<std::uint32_t> chosen = choose_passes(passes);
-        std::uint64_t total = 0;
-        for (std::size_t ci = 0; ci < chosen.size(); ++ci) {
-            const std::size_t i = chosen[ci];
-            if (vcd_) vcd_->pass = std::uint32_t(i);
-            preload(passes[i]);
-            std::uint64_t c = event_mode_ ? run_pass_event(passes[i]) : run_pass(passes[i]);
-            if (!error_.empty()) break;  // the watchdog fired
-            pass_len_ = c;
-            check_pass(passes[i]);
-            c += cfg_.pass_overhead_cycles;
-            result_.pass_cycles.push_back(c);
-            result_.pass_index.push_back(std::uint32_t(i));
-            total += c;
-            if (opt_.progress) opt_.progress(ci + 1, chosen.size(), total);
+        if (cfg_.estimate == Estimate::fifo_bound) {
+            std::uint64_t total = 0;
+            for (std::size_t i = 0; i < passes.size(); ++i) {
+                const std::uint64_t c = run_pass_bound(passes[i]) + cfg_.pass_overhead_cycles;
+                result_.pass_cycles.push_back(c);
+                result_.pass_index.push_back(std::uint32_t(i));
+                total += c;
+                if (opt_.progress) opt_.progress(i + 1, passes.size(), total);
+            }
+            result_.total_cycles = total;
+            result_.estimated = result_.lower_bound = true;
+            wait(period_ * double(total));
+        } else {
+            run_passes(passes);
         }
-        if (since_sync_) wait(period_ * double(since_sync_));
-        if (cfg_.pass_overhead_cycles) wait(period_ * double(cfg_.pass_overhead_cycles * chosen.size()));
-        result_.total_cycles = total;
-        if (chosen.size() < passes.size()) extrapolate(passes);
     } catch (const std::exception& e) {
         error_ = e.what();
     }
@@ -352,9 +351,34 @@ void Top::run() {
     wait();
 }
 
+void Top::run_passes(const std::vector<Host::Pass>& passes) {
+    const std::vector<std::uint32_t> chosen = choose_passes(passes);
+    std::uint64_t total = 0;
+    for (std::size_t ci = 0; ci < chosen.size(); ++ci) {
+        const std::size_t i = chosen[ci];
+        if (vcd_) vcd_->pass = std::uint32_t(i);
+        preload(passes[i]);
+        std::uint64_t c = event_mode_ ? run_pass_event(passes[i]) : run_pass(passes[i]);
+        if (!error_.empty()) break;  // the watchdog fired
+        pass_len_ = c;
+        check_pass(passes[i]);
+        c += cfg_.pass_overhead_cycles;
+        result_.pass_cycles.push_back(c);
+        result_.pass_index.push_back(std::uint32_t(i));
+        total += c;
+        if (opt_.progress) opt_.progress(ci + 1, chosen.size(), total);
+    }
+    if (since_sync_) wait(period_ * double(since_sync_));
+    if (cfg_.pass_overhead_cycles) wait(period_ * double(cfg_.pass_overhead_cycles * chosen.size()));
+    result_.total_cycles = total;
+    if (chosen.size() < passes.size()) extrapolate(passes);
+}
+
 SimResult simulate(const Trace& trace, const SimConfig& cfg, const SimOptions& opt) {
     sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
-    auto functional = Functional::create(trace, cfg.format, cfg.functional, cfg.cull);
+    // fifo_bound reads the sphere hits from the trace and tests nothing.
+    const bool bound = cfg.estimate == Estimate::fifo_bound;
+    auto functional = Functional::create(trace, cfg.format, bound ? FunctionalMode::trace : cfg.functional, cfg.cull);
     auto top = std::make_unique<Top>("raplas", cfg, trace, *functional, opt);
     auto t0 = std::chrono::steady_clock::now();
     sc_core::sc_start();
@@ -389,7 +413,7 @@ SimResult simulate(const Trace& trace, const SimConfig& cfg, const SimOptions& o
         r.iccs.push_back(s);
     }
     top.reset();  // closes and renames the waveform
-    r.functional_checked = cfg.functional == FunctionalMode::compute;
+    r.functional_checked = cfg.functional == FunctionalMode::compute && !bound;
     r.functional_match = r.functional_checked && r.rays_mismatched == 0;
     return r;
 }

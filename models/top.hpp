@@ -35,7 +35,8 @@ struct SimResult {
     std::vector<std::uint64_t> pass_cycles;  // of the simulated passes, in order
     std::vector<std::uint32_t> pass_index;   // their indices in the host's plan
     bool estimated = false;
-    double estimate_ci95 = 0;  // 95 % confidence half-width of total_cycles, cycles
+    double estimate_ci95 = 0;  // sample_passes: 95 % confidence half-width of total_cycles, cycles
+    bool lower_bound = false;  // fifo_bound: total_cycles is a lower bound of the exact count
     Host::Stats host;
     StreamLink::Stats sphere_link, triangle_link;
     SphereMemory::Stats sphere_memory;
@@ -80,8 +81,13 @@ public:
 
 private:
     void run();
+    // Every pass (or a sample under sim.estimate = sample_passes), simulated.
+    void run_passes(const std::vector<Host::Pass>& passes);
     std::uint64_t run_pass(const Host::Pass& p);
     std::uint64_t run_pass_event(const Host::Pass& p);
+    // sim.estimate = fifo_bound: the pass's cycles with unbounded Triangle,
+    // PlaneID and First-Triangle-ID FIFOs, in closed form (bound_engine.cpp).
+    std::uint64_t run_pass_bound(const Host::Pass& p);
     void preload(const Host::Pass& p);
     // The passes to simulate (all, or a sample under sim.estimate), and the
     // extrapolated total from a sample.
@@ -127,6 +133,16 @@ private:
     std::unique_ptr<Fifo<PlaneIdEntry>> ref_planeid_;
     std::unique_ptr<Fifo<FirstTriEntry>> ref_first_tri_;
     std::vector<SphereHitRec> no_hits_;
+    // fifo_bound: per group size N, the cycle in which each triangle is
+    // broadcast when only the sphere side can hold the triangle stream (the
+    // same in every pass), and the cycle after the last sphere was sent.
+    struct BoundSchedule {
+        std::uint32_t n = 0;
+        std::vector<std::uint64_t> tri_cycle;
+        std::uint64_t spheres_sent_by = 0;
+    };
+    std::vector<BoundSchedule> bound_schedules_;
+    const BoundSchedule& bound_schedule(std::uint32_t n);
 };
 
 // Runs one simulation in this process (SystemC allows one per process).

@@ -74,7 +74,14 @@ nlohmann::json sim_json(const SimReportInput& in) {
     j["format"] = c.format.name();
     j["clock_mhz"] = c.clock_mhz;
     j["total_cycles"] = r.total_cycles;
-    if (r.estimated)
+    if (r.lower_bound)
+        j["estimate"] = {{"mode", "fifo_bound"},
+                         {"lower_bound", true},
+                         {"passes_simulated", 0},
+                         {"note", "total_cycles and time_ms are a lower bound of the exact count (every pass timed "
+                                  "with unbounded Triangle, PlaneID and First-Triangle-ID FIFOs, in closed form); "
+                                  "per-block statistics are not computed"}};
+    else if (r.estimated)
         j["estimate"] = {{"mode", "sample_passes"},
                          {"sample_fraction", c.sample_fraction},
                          {"sample_seed", c.sample_seed},
@@ -216,13 +223,17 @@ std::string sim_summary(const nlohmann::json& j) {
                   j["time_ms"].get<double>(), j["clock_mhz"].get<double>(),
                   (unsigned long long)j["passes"].get<std::uint64_t>(), (unsigned long long)j["ray_groups"].get<std::uint64_t>());
     o << buf;
-    if (j.contains("estimate")) {
+    if (j.contains("estimate") && j["estimate"]["mode"] == "fifo_bound") {
+        o << "  estimate: lower bound, every FIFO but the Sphere FIFO unbounded (closed form, nothing simulated)\n";
+    } else if (j.contains("estimate")) {
         std::snprintf(buf, sizeof buf, "  estimate: %llu of %llu passes simulated, total cycles +/- %.3g (95 %%)\n",
                       (unsigned long long)j["estimate"]["passes_simulated"].get<std::uint64_t>(),
                       (unsigned long long)j["passes"].get<std::uint64_t>(), j["estimate"]["ci95_cycles"].get<double>());
         o << buf;
     }
-    if (j["memory"]["system"] == "streaming") {
+    if (j.contains("estimate") && j["estimate"]["mode"] == "fifo_bound") {
+        // no block statistics to print
+    } else if (j["memory"]["system"] == "streaming") {
         std::snprintf(buf, sizeof buf,
                       "  links: sphere %llu records, %llu stall cycles; triangle %llu records, %llu stall cycles; RTI utilisation %.1f %%\n",
                       (unsigned long long)j["links"]["sphere"]["records_sent"].get<std::uint64_t>(),

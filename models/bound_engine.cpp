@@ -1,0 +1,105 @@
+// sim.estimate = "fifo_bound": each pass timed in closed form from the trace
+// with unbounded Triangle, PlaneID and First-Triangle-ID FIFOs. It rests on
+// the same facts as the event mode (event_engine.cpp):
+//  1. With a PlaneID FIFO that never fills, no PSI is ever held, so every
+//     ICC's sphere side is the shared one: the Decoder's `decided` count at
+//     the start of every cycle is the same in every ICC and every pass of a
+//     group size N (the Sphere FIFO keeps its configured depth; it is part of
+//     that shared side).
+//  2. With Triangle FIFOs that never fill, only that count can hold the
+//     triangle stream: triangle i is sent in the first cycle after triangle
+//     i-1 (and not before link.triangle_lag_cycles) in which every ICC has
+//     decided its sphere. These cycles, too, are the same in every pass.
+//  3. Behind the Triangle Selector each ICC is a work-conserving queue: a
+//     triangle selected in cycle c with m = |rows|·|cols| pairs is popped at
+//     the first free issue slot from c+1 on and issues R pairs per cycle; the
+//     last result leaves the RTI L cycles after the last pair.
+// A pass ends in the cycle after the last record was sent and the last
+// result left. A full FIFO or a held PSI can only delay a send or a pop, and
+// a later selection never finishes a queue earlier, so the result is a lower
+// bound of the exact count, and equal to it when no Triangle FIFO, PlaneID
+// FIFO or First-Triangle-ID FIFO fills (tests/bound_fifo.py checks both).
+#include <algorithm>
+
+#include "top.hpp"
+
+namespace raplas::model {
+
+const Top::BoundSchedule& Top::bound_schedule(std::uint32_t n) {
+    for (const auto& b : bound_schedules_)
+        if (b.n == n) return b;
+    const std::uint32_t S = std::uint32_t(sphere_memory.size());
+    const std::uint64_t T = triangle_memory.size();
+    // The shared sphere side, stepped as in the event mode with no hits:
+    // first_decided[s] is the first cycle at whose start sphere s is decided.
+    SphereFifo& rf = *ref_fifo_;
+    PlaneSphereIntersector& rp = *ref_psi_;
+    Decoder& rd = *ref_decoder_;
+    rf.clear();
+    rp.start_group(2 * n, &no_hits_);
+    rd.start_group();
+    const SphereInfo info{&sphere_memory};
+    std::vector<std::uint64_t> first_decided(S);
+    BoundSchedule b;
+    b.n = n;
+    std::uint32_t sent = 0, known = 0;
+    for (std::uint64_t cycle = 0;; ++cycle) {
+        for (; known < rd.decided(); ++known) first_decided[known] = cycle;
+        if (known == S) break;
+        const bool send = sent < S && !rf.full();
+        const std::uint32_t s = sent;
+        if (send && ++sent == S) b.spheres_sent_by = cycle + 1;
+        rd.tick(rp, *ref_planeid_, *ref_first_tri_, info);
+        rp.tick(rf, false, sent < S || !rf.empty());
+        if (send) rf.push(s);
+    }
+    b.tri_cycle.resize(T);
+    std::uint64_t next = cfg_.triangle_lag_cycles;
+    for (std::uint64_t i = 0; i < T; ++i) {
+        const std::uint64_t c = std::max(next, first_decided[triangle_memory.sphere_of(std::uint32_t(i))]);
+        b.tri_cycle[i] = c;
+        next = c + 1;
+    }
+    bound_schedules_.push_back(std::move(b));
+    return bound_schedules_.back();
+}
+
+std::uint64_t Top::run_pass_bound(const Host::Pass& p) {
+    const std::uint32_t n = trace_.groups[p.begin].n;
+    const BoundSchedule& b = bound_schedule(n);
+    const std::uint32_t pipes = cfg_.icc.rti.pipes, stages = cfg_.icc.rti.stages;
+    std::uint64_t end_cycle = std::max<std::uint64_t>(b.spheres_sent_by, b.tri_cycle.empty() ? 0 : b.tri_cycle.back() + 1);
+    for (std::uint32_t gi = p.begin; gi < p.end; ++gi) {
+        // The ICC's Ray Data Fetcher and RTI: next free issue cycle and the
+        // pipes used in it.
+        std::uint64_t next_cyc = 0;
+        std::uint32_t next_used = 0;
+        bool any = false;
+        for (const SphereHitRec& h : trace_.groups[gi].sphere_hits) {
+            const std::uint64_t m = std::uint64_t(__builtin_popcountll(h.rows)) * std::uint64_t(__builtin_popcountll(h.cols));
+            if (m == 0) continue;  // not a hit: the Decoder does not queue it
+            const std::uint32_t first = trace_.first_tri[h.sphere], count = trace_.tri_count[h.sphere];
+            for (std::uint32_t tri = first; tri < first + count; ++tri) {
+                std::uint64_t start = b.tri_cycle[tri] + 1;
+                std::uint32_t used = 0;
+                if (any && next_cyc >= start) {
+                    start = next_cyc;
+                    used = next_used;
+                    if (used == pipes) {
+                        ++start;
+                        used = 0;
+                    }
+                }
+                const std::uint64_t total = used + m;
+                next_cyc = start + (total - 1) / pipes;
+                next_used = std::uint32_t((total - 1) % pipes + 1);
+                any = true;
+            }
+        }
+        // The last result leaves the RTI `stages` cycles after the last issue.
+        if (any) end_cycle = std::max(end_cycle, next_cyc + stages + 1);
+    }
+    return end_cycle;
+}
+
+}  // namespace raplas::model
