@@ -16,8 +16,9 @@ the generated part of docs/ACCURACY.md (between its markers).
 
 Simulation modes that trade accuracy for speed come from --modes FILE.csv:
 by default docs/results/estimate_error.csv, the sampled-pass estimate
-(sim.estimate = sample_passes) against the exact model, written by
-tools/estimate_error.py (--rerun-estimate runs it first: about 15 minutes);
+(sim.estimate = sample_passes) and the closed-form lower bound
+(sim.estimate = fifo_bound) against the exact model, written by
+tools/estimate_error.py (--rerun-estimate runs it first: about 5 minutes on an idle machine);
 any CSV with the columns mode, wall_s, error, error_metric, notes works too.
 They are drawn in the plot's third panel and tabulated in docs/ACCURACY.md.
 
@@ -107,7 +108,8 @@ def load_modes(path):
         if r["scene"] not in scenes:
             scenes.append(r["scene"])
     for sc in scenes:
-        rs = [r for r in rows if r["scene"] == sc]
+        bs = [r for r in rows if r["scene"] == sc and r.get("estimate") == "fifo_bound"]
+        rs = [r for r in rows if r["scene"] == sc and r.get("estimate", "sample_passes") == "sample_passes"]
         exact = sum(float(r["exact_model_s"]) for r in rs) / len(rs)
         out.append({"mode": f"exact ({sc})", "scene": sc, "fraction": 1.0, "wall_s": f"{exact:.2f}", "error": "0",
                     "error_metric": "total cycles, mean abs. error %", "notes": "sim.estimate = exact (event mode)"})
@@ -121,6 +123,17 @@ def load_modes(path):
                         "error": f"{err:.2f}", "error_metric": "total cycles, mean abs. error %",
                         "notes": f"worst {worst:.1f} %; exact inside the 95 % interval in {inside}/{len(fs)} "
                                  f"(ICCs × FIFO depths × seeds)"})
+        if bs:
+            wall = sum(float(r["estimate_model_s"]) for r in bs) / len(bs)
+            err = sum(abs(float(r["error_pct"])) for r in bs) / len(bs)
+            per_depth = "; ".join(
+                f"FIFO {d}: mean {sum(abs(float(r['error_pct'])) for r in bs if r['fifo_depth'] == d) / sum(r['fifo_depth'] == d for r in bs):.1f} %"
+                for d in dict.fromkeys(r["fifo_depth"] for r in bs))
+            below = sum(r["inside_ci95"] == "True" for r in bs)
+            out.append({"mode": f"fifo_bound ({sc})", "scene": sc, "label": "bound", "wall_s": f"{wall:.3f}",
+                        "error": f"{err:.2f}", "error_metric": "total cycles, mean abs. error %",
+                        "notes": f"lower bound (FIFOs unbounded, closed form); {per_depth}; at or below exact in "
+                                 f"{below}/{len(bs)} (ICCs × FIFO depths)"})
     return out
 
 
@@ -169,13 +182,18 @@ def plot(rows, per_format, modes, path):
             by_scene.setdefault(m.get("scene", ""), []).append(m)
         for i, (sc, ms) in enumerate(by_scene.items()):
             ms = sorted(ms, key=lambda m: float(m["wall_s"]))
-            xs, ys = [float(m["wall_s"]) for m in ms], [float(m["error"]) for m in ms]
+            line = [m for m in ms if not m.get("label")]
+            xs, ys = [float(m["wall_s"]) for m in line], [float(m["error"]) for m in line]
             ax.plot(xs, ys, "o-", color=f"C{i + 2}", label=sc or None, zorder=3)
+            for m in ms:
+                if m.get("label"):  # a mode of its own (the closed-form bound): a marker, no line
+                    ax.scatter(float(m["wall_s"]), float(m["error"]), marker="x", color=f"C{i + 2}", zorder=3)
+            xs, ys = [float(m["wall_s"]) for m in ms], [float(m["error"]) for m in ms]
             for m, x, y in zip(ms, xs, ys):
-                label = f"{m['fraction']:g}" if "fraction" in m else m["mode"]
+                label = m.get("label") or (f"{m['fraction']:g}" if "fraction" in m else m["mode"])
                 ax.annotate(label, (x, y), textcoords="offset points", xytext=(4, 3), fontsize=7)
         if any(by_scene):
-            ax.legend(fontsize=7, title="sample fraction (1 = exact)", title_fontsize=7)
+            ax.legend(fontsize=7, title="sample fraction (1 = exact; bound = fifo_bound)", title_fontsize=7)
         ax.set_xscale("log")
         ax.set_xlabel("model wall time, s (mean over ICC counts and FIFO depths)")
         ax.set_ylabel(modes[0].get("error_metric", "error"))

@@ -1,11 +1,13 @@
 #!/usr/bin/env python3
-"""Measured error of the sampled-pass estimate (sim.estimate = sample_passes)
-against the exact event mode, with the model's wall time of each.
+"""Measured error of the estimate modes (sim.estimate = sample_passes and
+fifo_bound) against the exact event mode, with the model's wall time of each.
 
-For each scene (trace written once), ICC count, FIFO depth and sample
-fraction: the exact total cycles, the estimate, its error, its 95 %
-half-width, whether the exact value lies inside it, and both model wall
-times. Writes a CSV and a Markdown table.
+For each scene (trace written once), ICC count and FIFO depth: per sample
+fraction and seed, the sampled-pass estimate, its error, its 95 % half-width
+and whether the exact value lies inside it; and the closed-form lower bound
+(fifo_bound), its error and whether it lies at or below the exact value
+(column inside_ci95: "inside its bound"). Both model wall times. Writes a
+CSV and a Markdown table.
 
   tools/estimate_error.py [--raplas build/raplas] [--out docs/results/estimate_error]
       [--scene scenes/bunny.toml ...] [--iccs 1,16,48] [--fifo 10,1000]
@@ -48,6 +50,17 @@ def main():
             for k in map(int, a.iccs.split(",")):
                 for d in map(int, a.fifo.split(",")):
                     exact = simulate(a.raplas, trace, k, d, [], tmp)
+                    bound = simulate(a.raplas, trace, k, d, ["--set", "sim.estimate=fifo_bound"], tmp)
+                    x, y = exact["total_cycles"], bound["total_cycles"]
+                    rows.append({
+                        "estimate": "fifo_bound", "scene": name, "iccs": k, "fifo_depth": d, "fraction": "",
+                        "seed": "", "passes": exact["passes"], "passes_simulated": 0,
+                        "exact_cycles": x, "estimate_cycles": y, "error_pct": round(100.0 * (y - x) / x, 3),
+                        "ci95_pct": "", "inside_ci95": y <= x,
+                        "exact_model_s": round(exact["wall"]["model_s"], 3),
+                        "estimate_model_s": round(bound["wall"]["model_s"], 3),
+                    })
+                    print(",".join(str(v) for v in rows[-1].values()), flush=True)
                     for frac in map(float, a.fractions.split(",")):
                         for seed in map(int, a.seeds.split(",")):
                             est = simulate(a.raplas, trace, k, d, ["--set", "sim.estimate=sample_passes",
@@ -56,7 +69,7 @@ def main():
                             e = est.get("estimate", {"ci95_cycles": 0.0, "passes_simulated": est["passes"]})
                             x, y = exact["total_cycles"], est["total_cycles"]
                             rows.append({
-                                "scene": name, "iccs": k, "fifo_depth": d, "fraction": frac, "seed": seed,
+                                "estimate": "sample_passes", "scene": name, "iccs": k, "fifo_depth": d, "fraction": frac, "seed": seed,
                                 "passes": exact["passes"], "passes_simulated": e["passes_simulated"],
                                 "exact_cycles": x, "estimate_cycles": y,
                                 "error_pct": round(100.0 * (y - x) / x, 3),
@@ -76,15 +89,28 @@ def main():
     # Markdown: per scene and fraction, over ICCs x FIFO x seeds
     lines = ["| scene | fraction | points | mean abs error | max abs error | mean 95 % half-width | inside half-width | model time, exact → estimate |",
              "|---|---|---|---|---|---|---|---|"]
-    for name in dict.fromkeys(r["scene"] for r in rows):
-        for frac in dict.fromkeys(r["fraction"] for r in rows):
-            rs = [r for r in rows if r["scene"] == name and r["fraction"] == frac]
+    sampled = [r for r in rows if r["estimate"] == "sample_passes"]
+    for name in dict.fromkeys(r["scene"] for r in sampled):
+        for frac in dict.fromkeys(r["fraction"] for r in sampled):
+            rs = [r for r in sampled if r["scene"] == name and r["fraction"] == frac]
             errs = [abs(r["error_pct"]) for r in rs]
             te = sum(r["exact_model_s"] for r in rs)
             ts = sum(r["estimate_model_s"] for r in rs)
             lines.append(f"| {name} | {frac:g} | {len(rs)} | {sum(errs) / len(errs):.2f} % | {max(errs):.2f} % | "
                          f"{sum(r['ci95_pct'] for r in rs) / len(rs):.2f} % | "
                          f"{sum(r['inside_ci95'] for r in rs)}/{len(rs)} | {te:.1f} s → {ts:.1f} s |")
+    lines += ["", "Closed-form lower bound (`sim.estimate = fifo_bound`):", "",
+              "| scene | FIFO depth | points | mean error | worst error | at or below exact | model time, exact → bound |",
+              "|---|---|---|---|---|---|---|"]
+    bounds = [r for r in rows if r["estimate"] == "fifo_bound"]
+    for name in dict.fromkeys(r["scene"] for r in bounds):
+        for d in dict.fromkeys(r["fifo_depth"] for r in bounds):
+            rs = [r for r in bounds if r["scene"] == name and r["fifo_depth"] == d]
+            errs = [r["error_pct"] for r in rs]
+            te = sum(r["exact_model_s"] for r in rs)
+            tb = sum(r["estimate_model_s"] for r in rs)
+            lines.append(f"| {name} | {d} | {len(rs)} | {sum(errs) / len(errs):.2f} % | {min(errs):.2f} % | "
+                         f"{sum(r['inside_ci95'] for r in rs)}/{len(rs)} | {te:.2f} s → {tb:.3f} s |")
     tmp_md = a.out + ".md.tmp"
     with open(tmp_md, "w") as f:
         f.write("\n".join(lines) + "\n")
