@@ -5,7 +5,8 @@ depths, PSI pipe counts, stall policies and triangle-stream lags,
   2. it equals them when no Triangle or PlaneID FIFO filled in the exact run
      (max occupancy below the depth in every ICC), and always when both FIFOs
      are deeper than the scene has triangles and spheres;
-  3. the JSON says it is a lower bound and that nothing was checked."""
+  3. the JSON says it is a lower bound and that nothing was checked, and the
+     CSV's estimate column names the mode."""
 import json
 import os
 import random
@@ -77,6 +78,15 @@ with tempfile.TemporaryDirectory() as tmp:
             check(run(tmp, trace, deep_cfg)["pass_cycles"] == b, f"{what}: deep FIFOs, exact != bound")
             print(f"{what}: exact {exact['total_cycles']}, bound {bound['total_cycles']}"
                   f"{'' if filled else ' (no FIFO filled: equal)'}")
+
+    # The CSV row says which kind of figure total_cycles is.
+    csv_path = os.path.join(tmp, "out.csv")
+    for est in ("exact", "sample_passes", "fifo_bound"):
+        subprocess.run([raplas, "simulate", "--trace", os.path.join(tmp, "builtin.trace"), "--config", "paper", "-q",
+                        "--set", f"sim.estimate={est}", "--csv", csv_path], check=True)
+        header, row = open(csv_path).read().splitlines()
+        cells = dict(zip(header.split(","), row.split(",")))
+        check(cells.get("estimate") == est, f"CSV estimate column: {cells.get('estimate')} for sim.estimate={est}")
 
 print(f"{checks - failures}/{checks} checks passed")
 sys.exit(1 if failures else 0)

@@ -53,6 +53,7 @@ const std::vector<std::pair<const char*, const char*>>& columns() {
         {"triangle_records_read", "/memory/triangle_records_read"},
         {"memory_bound_cycles", "/memory/memory_bound_cycles"},
         {"pe_bound_cycles", "/memory/pe_bound_cycles"},
+        {"estimate", "/estimate/mode"},  // "exact" when the JSON has no estimate block
     };
     return c;
 }
@@ -194,7 +195,12 @@ std::string sim_csv_header() {
 std::string sim_csv_row(const nlohmann::json& j) {
     std::string row;
     for (const auto& [name, ptr] : columns()) {
-        const auto& v = j.at(nlohmann::json::json_pointer(ptr));
+        const nlohmann::json::json_pointer p(ptr);
+        if (!j.contains(p)) {
+            row += std::string(row.empty() ? "" : ",") + (std::string(name) == "estimate" ? "exact" : "");
+            continue;
+        }
+        const auto& v = j.at(p);
         std::string cell;
         if (v.is_string()) cell = v.get<std::string>();
         else if (v.is_boolean()) cell = v.get<bool>() ? "true" : "false";
