@@ -61,7 +61,7 @@ Frame render_frame(const Scene& scene, const FrameOptions& opt) {
 
     auto t0 = clock::now();
     f.sphere_margin = conservative_margin(opt.format.unit_roundoff(), scene_extent(scene));
-    f.spheres = build_spheres(scene.mesh, scene.tris_per_sphere, scene.sphere_method, f.sphere_margin);
+    f.spheres = build_spheres(scene.mesh, scene.tris_per_sphere, scene.sphere_method, f.sphere_margin, threads);
     Tracer tracer(f.spheres, opt.format, opt.cull);
     f.times.spheres_s = seconds_since(t0);
 

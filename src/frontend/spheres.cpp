@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numeric>
 
+#include "raplas/util/parallel.hpp"
+
 namespace raplas {
 
 TriangleRec make_triangle_record(const Mesh& mesh, std::size_t i) {
@@ -52,20 +54,25 @@ Sphere enclose(const std::vector<Vec3d>& pts, bool tight, double margin) {
         Vec3d mean;
         for (const auto& p : pts) mean += p;
         cands.push_back(mean / double(pts.size()));
+        bool exact = false;
         if (pts.size() == 3) {
             Vec3d c;
-            if (triangle_min_sphere(pts[0], pts[1], pts[2], c)) cands.push_back(c);
+            exact = triangle_min_sphere(pts[0], pts[1], pts[2], c);
+            if (exact) cands.push_back(c);
         }
-        // Badoiu-Clarkson: step toward the farthest point, converges to the minimum sphere.
-        Vec3d c = best;
-        for (int i = 1; i <= 64; ++i) {
-            const Vec3d* far = &pts[0];
-            double d2 = -1;
-            for (const auto& p : pts)
-                if (dot(p - c, p - c) > d2) { d2 = dot(p - c, p - c); far = &p; }
-            c = c + (*far - c) / double(i + 1);
+        // Badoiu-Clarkson: step toward the farthest point, converges to the
+        // minimum sphere (not needed when a lone triangle's is known exactly).
+        if (!exact) {
+            Vec3d c = best;
+            for (int i = 1; i <= 64; ++i) {
+                const Vec3d* far = &pts[0];
+                double d2 = -1;
+                for (const auto& p : pts)
+                    if (dot(p - c, p - c) > d2) { d2 = dot(p - c, p - c); far = &p; }
+                c = c + (*far - c) / double(i + 1);
+            }
+            cands.push_back(c);
         }
-        cands.push_back(c);
         for (const auto& cc : cands) {
             double r = radius_about(cc, pts);
             if (r < best_r) { best_r = r; best = cc; }
@@ -105,7 +112,8 @@ void split(std::vector<std::uint32_t>& idx, std::size_t lo, std::size_t hi, std:
 
 }  // namespace
 
-SphereSet build_spheres(const Mesh& mesh, int tris_per_sphere, const std::string& method, double margin) {
+SphereSet build_spheres(const Mesh& mesh, int tris_per_sphere, const std::string& method, double margin,
+                        unsigned threads) {
     const std::size_t nt = mesh.triangle_count();
     const std::size_t k = static_cast<std::size_t>(std::max(1, tris_per_sphere));
     std::vector<std::uint32_t> idx(nt);
@@ -120,25 +128,33 @@ SphereSet build_spheres(const Mesh& mesh, int tris_per_sphere, const std::string
     } else {
         for (std::size_t lo = 0; lo < nt; lo += k) leaves.emplace_back(lo, std::min(nt, lo + k));
     }
+    // Leaves are contiguous and ascending, so leaf j's triangles go to
+    // Triangle Memory [lo, hi): every sphere is built on its own.
+    const std::size_t ns = leaves.size();
     SphereSet s;
-    s.spheres.reserve(leaves.size());
-    s.triangles.reserve(nt);
-    std::vector<Vec3d> pts;
-    for (const auto& [lo, hi] : leaves) {
+    s.spheres.resize(ns);
+    s.first_tri.resize(ns);
+    s.tri_count.resize(ns);
+    s.triangles.resize(nt);
+    s.tri_mesh_index.resize(nt);
+    s.tri_sphere.resize(nt);
+    parallel_for(ns, threads, [&](std::size_t j) {
+        const auto [lo, hi] = leaves[j];
         // within a sphere, triangles keep mesh order
         std::sort(idx.begin() + static_cast<std::ptrdiff_t>(lo), idx.begin() + static_cast<std::ptrdiff_t>(hi));
+        thread_local std::vector<Vec3d> pts;
         pts.clear();
-        s.first_tri.push_back(static_cast<std::uint32_t>(s.triangles.size()));
-        s.tri_count.push_back(static_cast<std::uint32_t>(hi - lo));
+        s.first_tri[j] = static_cast<std::uint32_t>(lo);
+        s.tri_count[j] = static_cast<std::uint32_t>(hi - lo);
         for (std::size_t i = lo; i < hi; ++i) {
-            std::uint32_t t = idx[i];
+            const std::uint32_t t = idx[i];
             for (int c = 0; c < 3; ++c) pts.push_back(to_d(mesh.corner(t, c)));
-            s.triangles.push_back(make_triangle_record(mesh, t));
-            s.tri_mesh_index.push_back(static_cast<std::int32_t>(t));
-            s.tri_sphere.push_back(static_cast<std::uint32_t>(s.spheres.size()));
+            s.triangles[i] = make_triangle_record(mesh, t);
+            s.tri_mesh_index[i] = static_cast<std::int32_t>(t);
+            s.tri_sphere[i] = static_cast<std::uint32_t>(j);
         }
-        s.spheres.push_back(enclose(pts, tight, margin));
-    }
+        s.spheres[j] = enclose(pts, tight, margin);
+    });
     return s;
 }
 

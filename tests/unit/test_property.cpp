@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <cstdint>
 #include <random>
 #include <string>
@@ -345,6 +346,28 @@ TEST(BoundingSpheres, EnclosePerSphereContiguousTriangles) {
             expect_valid_sphere_set(m, s, k, margin,
                                     std::string(method) + " it=" + std::to_string(it) + " K=" + std::to_string(k));
             if (HasFatalFailure()) return;
+        }
+    }
+}
+
+// Spheres built on several threads are the same bytes as on one.
+TEST(BoundingSpheres, SameOnAnyNumberOfThreads) {
+    Rng rng(17);
+    for (int it = 0; it < 6; ++it) {
+        Mesh m = random_soup(rng, irand(rng, 1, 400), {0, 0, 0}, 1.0);
+        const int k = irand(rng, 1, 4);
+        for (const char* method : {"median-split", "file-order"}) {
+            const SphereSet a = build_spheres(m, k, method, 1e-6, 1), b = build_spheres(m, k, method, 1e-6, 3);
+            const std::string what = std::string(method) + " it=" + std::to_string(it);
+            ASSERT_EQ(a.sphere_count(), b.sphere_count()) << what;
+            ASSERT_EQ(a.triangle_count(), b.triangle_count()) << what;
+            EXPECT_EQ(std::memcmp(a.spheres.data(), b.spheres.data(), a.spheres.size() * sizeof(Sphere)), 0) << what;
+            EXPECT_EQ(std::memcmp(a.triangles.data(), b.triangles.data(), a.triangles.size() * sizeof(TriangleRec)), 0)
+                << what;
+            EXPECT_EQ(a.first_tri, b.first_tri) << what;
+            EXPECT_EQ(a.tri_count, b.tri_count) << what;
+            EXPECT_EQ(a.tri_mesh_index, b.tri_mesh_index) << what;
+            EXPECT_EQ(a.tri_sphere, b.tri_sphere) << what;
         }
     }
 }

@@ -35,8 +35,10 @@ struct SphereQuality {
 // several candidate enclosing spheres. "file-order": K consecutive mesh
 // triangles per sphere around their bounding-box centre (the naive baseline).
 // `margin` is added to every radius so that rounding in the plane test can
-// never lose a hit (see conservative_margin()).
-SphereSet build_spheres(const Mesh& mesh, int tris_per_sphere, const std::string& method, double margin);
+// never lose a hit (see conservative_margin()). The spheres are computed on
+// `threads` threads, each on its own, so the result does not depend on it.
+SphereSet build_spheres(const Mesh& mesh, int tris_per_sphere, const std::string& method, double margin,
+                        unsigned threads = 1);
 SphereQuality sphere_quality(const SphereSet& s);
 
 // Triangle Memory record of mesh triangle i (edges and normal in double,
