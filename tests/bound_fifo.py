@@ -47,7 +47,7 @@ with tempfile.TemporaryDirectory() as tmp:
     for name, args in scenes:
         trace = os.path.join(tmp, name + ".trace")
         subprocess.run([raplas, "trace", "--out", trace, "-q"] + args, check=True)
-        for i in range(6):
+        for i in range(4):
             fifo = rng.choice([1, 2, 10, 100, 1000])
             cfg = ["--iccs", str(rng.choice([1, 2, 5, 16])), "--fifo", str(fifo),
                    "--set", f"fifo.planeid_depth={rng.choice([1, 4, 1000])}",
