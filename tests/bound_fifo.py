@@ -14,16 +14,10 @@ import subprocess
 import sys
 import tempfile
 
+from small_scenes import small_scenes
+
 raplas, root = sys.argv[1], os.path.abspath(sys.argv[2])
-shared = os.path.join(os.path.dirname(root), "shared", "scenes")
-scenes = [("builtin", ["--set", "image.width=24", "--set", "image.height=24", "--set", "groups.size=8",
-                       "--set", "groups.shadow_size=8", "--set", "builtin_detail=2"])]
-if os.path.isdir(shared):
-    for name in ("cornell", "bunny_small", "sportscar"):
-        scenes.append((name, ["--scene", os.path.join(root, "scenes", name + ".toml"), "--set", "image.width=16",
-                              "--set", "image.height=16"]))
-else:
-    print(f"note: {shared} missing: built-in scene only")
+scenes = small_scenes(root)
 
 failures = checks = 0
 
