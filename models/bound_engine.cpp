@@ -33,12 +33,8 @@ const Top::BoundSchedule& Top::bound_schedule(std::uint32_t n) {
     // The shared sphere side, stepped as in the event mode with no hits:
     // first_decided[s] is the first cycle at whose start sphere s is decided.
     SphereFifo& rf = *ref_fifo_;
-    PlaneSphereIntersector& rp = *ref_psi_;
-    Decoder& rd = *ref_decoder_;
-    rf.clear();
-    rp.start_group(2 * n, &no_hits_);
-    rd.start_group();
-    const SphereInfo info{&sphere_memory};
+    const Decoder& rd = *ref_decoder_;
+    start_shared_side(n);
     std::vector<std::uint64_t> first_decided(S);
     BoundSchedule b;
     b.n = n;
@@ -49,8 +45,7 @@ const Top::BoundSchedule& Top::bound_schedule(std::uint32_t n) {
         const bool send = sent < S && !rf.full();
         const std::uint32_t s = sent;
         if (send && ++sent == S) b.spheres_sent_by = cycle + 1;
-        rd.tick(rp, *ref_planeid_, *ref_first_tri_, info);
-        rp.tick(rf, false, sent < S || !rf.empty());
+        tick_shared_side(sent < S);
         if (send) rf.push(s);
     }
     b.tri_cycle.resize(T);

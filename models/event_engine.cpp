@@ -33,6 +33,17 @@
 
 namespace raplas::model {
 
+void Top::start_shared_side(std::uint32_t n) {
+    ref_fifo_->clear();
+    ref_psi_->start_group(2 * n, &no_hits_);
+    ref_decoder_->start_group();
+}
+
+void Top::tick_shared_side(bool spheres_pending) {
+    ref_decoder_->tick(*ref_psi_, *ref_planeid_, *ref_first_tri_, SphereInfo{&sphere_memory});
+    ref_psi_->tick(*ref_fifo_, false, spheres_pending || !ref_fifo_->empty());
+}
+
 std::uint64_t Top::run_pass_event(const Host::Pass& p) {
     enum Role : std::uint8_t { ref, individual };
     std::vector<Icc*> active;
@@ -52,9 +63,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p) {
     SphereFifo& rf = *ref_fifo_;
     PlaneSphereIntersector& rp = *ref_psi_;
     Decoder& rd = *ref_decoder_;
-    rf.clear();
-    rp.start_group(2 * n, &no_hits_);
-    rd.start_group();
+    start_shared_side(n);
     const std::uint64_t rf_pushes0 = rf.stats().pushes;
     const std::uint64_t rp_starved0 = rp.stats().starved_cycles;
     std::uint64_t ref_max = 0;
@@ -341,8 +350,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p) {
                 if (was_empty) waiting.push({first_tri(x), h.icc});
             }
         }
-        rd.tick(rp, *ref_planeid_, *ref_first_tri_, info);
-        rp.tick(rf, false, spheres_pending || !rf.empty());
+        tick_shared_side(spheres_pending);
         if (s >= 0) {
             rf.push(std::uint32_t(s));
             ref_max = std::max<std::uint64_t>(ref_max, rf.size());

@@ -133,6 +133,11 @@ private:
     std::unique_ptr<Fifo<PlaneIdEntry>> ref_planeid_;
     std::unique_ptr<Fifo<FirstTriEntry>> ref_first_tri_;
     std::vector<SphereHitRec> no_hits_;
+    // The shared sphere side at the start of a pass with groups of size n,
+    // and one cycle of it after the link decided (the sphere sent, if any,
+    // is pushed by the caller): the event mode and fifo_bound step it alike.
+    void start_shared_side(std::uint32_t n);
+    void tick_shared_side(bool spheres_pending);
     // fifo_bound: per group size N, the cycle in which each triangle is
     // broadcast when only the sphere side can hold the triangle stream (the
     // same in every pass), and the cycle after the last sphere was sent.
