@@ -1,6 +1,7 @@
 #include "raplas/frontend/tracer.hpp"
 
 #include <type_traits>
+#include <utility>
 
 #include "raplas/core/cull.hpp"
 
@@ -84,11 +85,8 @@ struct ImplT final : Tracer::Impl {
             }
         }
         for (const SphereHitRec& hit : list) {
-            const std::uint32_t si = hit.sphere;
             const std::uint64_t rows = hit.rows, cols = hit.cols;
-            const std::uint32_t t0 = s.first_tri[si], t1 = t0 + s.tri_count[si];
-            out.counts.rt_tests += std::uint64_t(__builtin_popcountll(rows)) *
-                                   std::uint64_t(__builtin_popcountll(cols)) * (t1 - t0);
+            const auto [t0, t1] = triangles_tested(hit, out);
             for (std::uint64_t rm = rows; rm; rm &= rm - 1) {
                 const std::uint32_t v = static_cast<std::uint32_t>(__builtin_ctzll(rm));
                 for (std::uint64_t cm = cols; cm; cm &= cm - 1) {
@@ -107,6 +105,15 @@ struct ImplT final : Tracer::Impl {
                 }
             }
         }
+    }
+
+    // Triangle Memory range [t0, t1) of a hit sphere; adds the group's ray-triangle
+    // tests of it (every ray of its row and column masks against each triangle).
+    std::pair<std::uint32_t, std::uint32_t> triangles_tested(const SphereHitRec& hit, GroupResult& out) const {
+        const std::uint32_t t0 = s.first_tri[hit.sphere], t1 = t0 + s.tri_count[hit.sphere];
+        out.counts.rt_tests += std::uint64_t(__builtin_popcountll(hit.rows)) *
+                               std::uint64_t(__builtin_popcountll(hit.cols)) * (t1 - t0);
+        return {t0, t1};
     }
 
     // Native formats, division-free test: each triangle of a hit sphere against whole rows of the
@@ -134,11 +141,8 @@ struct ImplT final : Tracer::Impl {
         const RayA<A>& r0 = rays[0];
         std::uint8_t* hb = hit.data();
         for (const SphereHitRec& rec : list) {
-            const std::uint32_t si = rec.sphere;
             const std::uint64_t rows = rec.rows, cols = rec.cols;
-            const std::uint32_t t0 = s.first_tri[si], t1 = t0 + s.tri_count[si];
-            out.counts.rt_tests += std::uint64_t(__builtin_popcountll(rows)) *
-                                   std::uint64_t(__builtin_popcountll(cols)) * (t1 - t0);
+            const auto [t0, t1] = triangles_tested(rec, out);
             for (std::uint32_t t = t0; t < t1; ++t) {
                 for (std::uint64_t rm = rows; rm; rm &= rm - 1) {
                     const std::size_t v = static_cast<std::size_t>(__builtin_ctzll(rm));
