@@ -2,12 +2,17 @@
 # Builds the libFuzzer targets (tests/fuzz) with clang in build-fuzz/ and runs
 # each for SECONDS (default 20) on a copy of its seed corpus, so the checked-in
 # corpus never grows. Fails when any target crashes, hangs, leaks, runs out of
-# memory or throws anything but InputError. See docs/FUZZING.md.
-# Usage: tools/fuzz.sh [SECONDS]
+# memory or throws anything but InputError. SEED (default 0: a new random
+# seed each run) fixes libFuzzer's mutation sequence; tools/test.sh (CI) uses
+# a fixed one, so that a CI run is repeatable. See docs/FUZZING.md.
+# Usage: tools/fuzz.sh [SECONDS [SEED]]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 secs=${1:-20}
-[[ "$secs" =~ ^[0-9]+$ ]] && ((secs > 0)) || { echo "usage: tools/fuzz.sh [SECONDS]" >&2; exit 2; }
+seed=${2:-0}
+usage() { echo "usage: tools/fuzz.sh [SECONDS [SEED]]" >&2; exit 2; }
+[[ "$secs" =~ ^[0-9]+$ ]] && ((secs > 0)) || usage
+[[ "$seed" =~ ^[0-9]+$ ]] && ((seed < 4294967296)) || usage
 
 cc=clang-14 cxx=clang++-14
 command -v "$cxx" >/dev/null || { cc=clang; cxx=clang++; }
@@ -36,10 +41,10 @@ for t in fuzz_obj fuzz_scene fuzz_config fuzz_trace; do
   fi
   # -timeout: one input taking over 10 s is a hang; -rss_limit_mb: more than
   # 2 GB is a crash (out-of-memory); leaks are crashes (LeakSanitizer).
-  if build-fuzz/tests/fuzz/$t -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+  if build-fuzz/tests/fuzz/$t -seed="$seed" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
        -dict="tests/fuzz/${dict[$t]}" -artifact_prefix="build-fuzz/artifacts/$t-" "$run/$t" >"$log" 2>&1; then
     execs=$(awk '/stat::number_of_executed_units/ {print $2}' "$log")
-    echo "$t: ok, ${execs:-?} executions in ${secs} s"
+    echo "$t: ok, ${execs:-?} executions in ${secs} s (seed $(awk '/INFO: Seed:/ {print $3; exit}' "$log"))"
   else
     echo "$t: FAILED"
     grep -E "^(==[0-9]+==ERROR|SUMMARY|$t: )|runtime error|Test unit written" "$log" | head -20 || true

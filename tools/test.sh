@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # One command: install what is missing, build, run the whole test suite; then
 # the suite again built with AddressSanitizer and UndefinedBehaviorSanitizer
-# (build-asan/), then every fuzz target for 15 s (tools/fuzz.sh, build-fuzz/).
+# (build-asan/), then every fuzz target for 15 s from a fixed seed, so that a
+# run is repeatable (tools/fuzz.sh, build-fuzz/).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/install-deps.sh
@@ -17,4 +18,4 @@ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX
 cmake --build build-asan
 UBSAN_OPTIONS=print_stacktrace=1 ctest --test-dir build-asan --output-on-failure -j "$(nproc)"
 
-tools/fuzz.sh 15
+tools/fuzz.sh 15 1

@@ -8,6 +8,8 @@
 #include <fstream>
 #include <sstream>
 #include <tiny_obj_loader.h>
+#include <utility>
+#include <vector>
 
 #include "raplas/scene/mesh.hpp"
 #include "raplas/util/error.hpp"
@@ -107,23 +109,39 @@ bool next_line(const std::string& text, std::size_t& pos, std::string& line) {
     return true;
 }
 
+// Keywords tinyobjloader parses that raplas does not use: skin weights, line
+// and point elements, tags. Their parsers convert floats to int without a
+// range check ("vw 0 1e19 1") and size arrays from unchecked counts
+// ("t x 2000000000/0/0"), so these lines are blanked before tinyobjloader
+// sees the text (docs/BAD_INPUT.md).
+bool ignored_keyword(const std::string& kw) { return kw == "vw" || kw == "l" || kw == "p" || kw == "t"; }
+
+// What validation learns about an OBJ text.
+struct ObjLines {
+    std::vector<long> vertex_lines;  // line of each vertex ('v'), in order
+    std::vector<std::pair<std::size_t, std::size_t>> ignored;  // [begin, end) of lines to blank
+};
+
 // Line-numbered validation before tinyobjloader parses the file (which would
 // read "nan" as 0 or index out of range): every error names FILE:LINE.
-// Returns the line of each vertex ('v'), in order.
-std::vector<long> validate_obj(const std::string& path, const std::string& text) {
+ObjLines validate_obj(const std::string& path, const std::string& text) {
     if (text.empty()) throw InputError(path + ": empty OBJ file");
     if (text.find('\0') != std::string::npos) throw InputError(path + ": not a text OBJ file (contains NUL bytes)");
     long nv = 0, nvt = 0, nvn = 0, faces = 0;
-    std::vector<long> vertex_lines;
+    ObjLines out;
     std::size_t pos = 0;
     std::string line;
     long lineno = 0;
-    while (next_line(text, pos, line)) {
+    for (std::size_t begin = pos; next_line(text, pos, line); begin = pos) {
         ++lineno;
         auto where = [&] { return path + ":" + std::to_string(lineno) + ": "; };
         std::istringstream ls(line);
         std::string kw;
         if (!(ls >> kw) || kw[0] == '#') continue;
+        if (ignored_keyword(kw)) {
+            out.ignored.emplace_back(begin, begin + line.size());
+            continue;
+        }
         check_exponents(where(), line);
         if (kw == "v" || kw == "vt" || kw == "vn") {
             std::string tok;
@@ -141,7 +159,7 @@ std::vector<long> validate_obj(const std::string& path, const std::string& text)
                 throw InputError(where() + "'" + kw + "' needs " + std::to_string(need) + " coordinates, got " +
                                  std::to_string(n));
             (kw == "v" ? nv : kw == "vt" ? nvt : nvn)++;
-            if (kw == "v") vertex_lines.push_back(lineno);
+            if (kw == "v") out.vertex_lines.push_back(lineno);
         } else if (kw == "f") {
             std::string tok;
             int n = 0;
@@ -178,7 +196,7 @@ std::vector<long> validate_obj(const std::string& path, const std::string& text)
         }
     }
     if (faces == 0) throw InputError(path + ": no faces in OBJ file");
-    return vertex_lines;
+    return out;
 }
 
 // `mtllib NAME` reads DIR/NAME, and only a regular file: a FIFO or a device
@@ -250,13 +268,21 @@ Mesh load_obj(const std::string& path) {
 }
 
 Mesh load_obj_text(const std::string& text, const std::string& path, const std::string& mtl_dir) {
-    const std::vector<long> vertex_lines = validate_obj(path, text);
+    const ObjLines lines = validate_obj(path, text);
+    const std::vector<long>& vertex_lines = lines.vertex_lines;
 
     tinyobj::attrib_t attrib;
     std::vector<tinyobj::shape_t> shapes;
     std::vector<tinyobj::material_t> materials;
     std::string warn, err;
-    std::istringstream obj_stream(text);
+    std::istringstream obj_stream;
+    if (lines.ignored.empty()) {
+        obj_stream.str(text);
+    } else {  // blank the ignored lines; line numbers stay as they were
+        std::string kept = text;
+        for (const auto& [b, e] : lines.ignored) kept.replace(b, e - b, e - b, ' ');
+        obj_stream.str(std::move(kept));
+    }
     MtlReader mtl_reader(mtl_dir);
     bool ok = tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &obj_stream, &mtl_reader, true, false);
     if (!ok || !err.empty()) {

@@ -203,6 +203,23 @@ TEST_F(ObjLoader, HugeExponentsAreRejectedInObjAndMtl) {
     EXPECT_EQ(m.vertices[0].x, 0.1f);
 }
 
+TEST_F(ObjLoader, UnusedElementsAreIgnoredWhateverTheirNumbers) {
+    // Skin weights, lines, points and tags are not triangles: raplas skips
+    // them, whatever numbers they hold (tinyobjloader would convert a joint id
+    // of 1.9e19 to int and size a tag from an unchecked count).
+    const std::string obj = write("skip.obj", std::string(kThreeVerts) +
+                                                  "vw 0 19223400000000000000 1\n"
+                                                  "t crease 2000000000/0/0 1\n"
+                                                  "l 1 -2147483648\n  p 2147483647\n"
+                                                  "f 1 2 3\nv 0 0 nan\n");
+    // lines after them are still validated, under their own numbers
+    EXPECT_THAT(load_error(obj), HasSubstr(obj + ":9:"));
+    const std::string ok = write("skipok.obj", std::string(kThreeVerts) + "vw 0 1e19 1\nl 1 2\nf 1 2 3\n");
+    const Mesh m = raplas::load_obj(ok);
+    ASSERT_EQ(m.triangle_count(), 1u);
+    EXPECT_EQ(m.corner(0, 1), Vec3f(1, 0, 0));
+}
+
 TEST_F(ObjLoader, FaceIndexErrorsNameTheirLine) {
     struct Case {
         const char* face;
