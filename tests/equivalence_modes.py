@@ -13,6 +13,8 @@ import tempfile
 from small_scenes import small_scenes
 
 raplas, root = sys.argv[1], os.path.abspath(sys.argv[2])
+# configurations per scene: 10; the sanitizer build passes fewer (tests/CMakeLists.txt)
+points_per_scene = int(sys.argv[3]) if len(sys.argv) > 3 else 10
 SKIP = {"wall"}
 scenes = small_scenes(root)
 
@@ -33,7 +35,7 @@ with tempfile.TemporaryDirectory() as tmp:
     for name, args in scenes:
         trace = os.path.join(tmp, name + ".trace")
         subprocess.run([raplas, "trace", "--out", trace, "-q"] + args, check=True)
-        for _ in range(10):
+        for _ in range(points_per_scene):
             cfg = ["--iccs", str(rng.choice([1, 2, 3, 5, 16])), "--fifo", str(rng.choice([1, 2, 3, 10, 100, 1000])),
                    "--set", f"fifo.planeid_depth={rng.choice([1, 2, 16])}",
                    "--set", f"link.stall_policy={rng.choice(['any_full', 'needed_full'])}",
