@@ -13,6 +13,7 @@
 
 #include "raplas/scene/mesh.hpp"
 #include "raplas/util/error.hpp"
+#include "raplas/util/input_file.hpp"
 #include "raplas/util/memory_budget.hpp"
 
 namespace raplas {
@@ -243,26 +244,10 @@ private:
 }  // namespace
 
 Mesh load_obj(const std::string& path) {
-    struct stat st{};
-    if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) throw InputError(path + ": is a directory, not an OBJ file");
-    std::ifstream in(path, std::ios::binary | std::ios::ate);
-    if (!in) throw InputError(path + ": cannot open OBJ file: " + std::strerror(errno));
     // The text, tinyobjloader's stream copy of it and its arrays (about the
     // text's size again): docs/MEMORY.md.
-    const std::streamoff size = in.tellg();
-    if (size > 0) check_memory("loading " + path, {{"OBJ text, its copy and its parse", 3.0 * double(size)}});
-    std::string text;
-    if (size > 0) {
-        text.resize(std::size_t(size));
-        in.seekg(0);
-        in.read(text.data(), size);
-        text.resize(std::size_t(in.gcount()));
-    } else {
-        std::stringstream ss;  // not a regular file: read to the end
-        in.seekg(0);
-        ss << in.rdbuf();
-        text = ss.str();
-    }
+    const std::string text =
+        read_text_input(path, {"OBJ file", "an", "OBJ text, its copy and its parse", 3.0});
     auto slash = path.find_last_of('/');
     return load_obj_text(text, path, slash == std::string::npos ? "./" : path.substr(0, slash + 1));
 }
