@@ -1,11 +1,11 @@
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <sstream>
 #include <tiny_obj_loader.h>
 #include <utility>
@@ -14,7 +14,6 @@
 #include "raplas/scene/mesh.hpp"
 #include "raplas/util/error.hpp"
 #include "raplas/util/input_file.hpp"
-#include "raplas/util/memory_budget.hpp"
 
 namespace raplas {
 
@@ -210,17 +209,12 @@ public:
         if (dir_.empty()) return false;
         const std::string file = dir_ + (dir_.back() == '/' ? "" : "/") + name;
         struct stat st{};
-        std::ifstream in;
-        if (::stat(file.c_str(), &st) == 0 && S_ISREG(st.st_mode)) in.open(file, std::ios::binary);
-        if (!in.is_open()) {
+        if (::stat(file.c_str(), &st) != 0 || !S_ISREG(st.st_mode) || ::access(file.c_str(), R_OK) != 0) {
             if (warn) *warn += "material file '" + file + "' not found\n";
             missing_.push_back(file);
             return false;
         }
-        std::stringstream ss;
-        ss << in.rdbuf();
-        const std::string text = ss.str();
-        if (text.find('\0') != std::string::npos) throw InputError(file + ": not a text MTL file (contains NUL bytes)");
+        const std::string text = read_text_input(file, {"MTL file", "an", "MTL text, its copy and its parse", 3.0});
         std::size_t pos = 0;
         std::string line;
         for (long lineno = 1; next_line(text, pos, line); ++lineno) {
@@ -260,14 +254,12 @@ Mesh load_obj_text(const std::string& text, const std::string& path, const std::
     std::vector<tinyobj::shape_t> shapes;
     std::vector<tinyobj::material_t> materials;
     std::string warn, err;
-    std::istringstream obj_stream;
-    if (lines.ignored.empty()) {
-        obj_stream.str(text);
-    } else {  // blank the ignored lines; line numbers stay as they were
-        std::string kept = text;
-        for (const auto& [b, e] : lines.ignored) kept.replace(b, e - b, e - b, ' ');
-        obj_stream.str(std::move(kept));
+    std::string blanked;  // the text with the ignored lines blanked; line numbers stay as they were
+    if (!lines.ignored.empty()) {
+        blanked = text;
+        for (const auto& [b, e] : lines.ignored) blanked.replace(b, e - b, e - b, ' ');
     }
+    std::istringstream obj_stream(lines.ignored.empty() ? text : blanked);
     MtlReader mtl_reader(mtl_dir);
     bool ok = tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &obj_stream, &mtl_reader, true, false);
     if (!ok || !err.empty()) {
