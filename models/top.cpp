@@ -273,7 +273,7 @@ void Top::preload(const Host::Pass& p) {
 std::vector<std::uint32_t> Top::choose_passes(const std::vector<Host::Pass>& passes) const {
     std::vector<std::uint32_t> all(passes.size());
     for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
-    if (cfg_.estimate == Estimate::exact) return all;
+    if (cfg_.estimate != Estimate::sample_passes) return all;
     std::vector<std::uint32_t> chosen, shadow;
     for (std::uint32_t i = 0; i < all.size(); ++i) (passes[i].primary ? chosen : shadow).push_back(i);
     const std::size_t ns = shadow.size();
@@ -324,21 +324,7 @@ void Top::extrapolate(const std::vector<Host::Pass>& passes) {
 void Top::run() {
     try {
         const auto passes = host.plan(trace_.primary_groups, std::uint32_t(trace_.groups.size()));
-        if (cfg_.estimate == Estimate::fifo_bound) {
-            std::uint64_t total = 0;
-            for (std::size_t i = 0; i < passes.size(); ++i) {
-                const std::uint64_t c = run_pass_bound(passes[i]) + cfg_.pass_overhead_cycles;
-                result_.pass_cycles.push_back(c);
-                result_.pass_index.push_back(std::uint32_t(i));
-                total += c;
-                if (opt_.progress) opt_.progress(i + 1, passes.size(), total);
-            }
-            result_.total_cycles = total;
-            result_.estimated = result_.lower_bound = true;
-            wait(period_ * double(total));
-        } else {
-            run_passes(passes);
-        }
+        run_passes(passes);
     } catch (const std::exception& e) {
         error_ = e.what();
     }
@@ -352,16 +338,23 @@ void Top::run() {
 }
 
 void Top::run_passes(const std::vector<Host::Pass>& passes) {
+    const bool bound = cfg_.estimate == Estimate::fifo_bound;
     const std::vector<std::uint32_t> chosen = choose_passes(passes);
     std::uint64_t total = 0;
     for (std::size_t ci = 0; ci < chosen.size(); ++ci) {
         const std::size_t i = chosen[ci];
-        if (vcd_) vcd_->pass = std::uint32_t(i);
-        preload(passes[i]);
-        std::uint64_t c = event_mode_ ? run_pass_event(passes[i]) : run_pass(passes[i]);
-        if (!error_.empty()) break;  // the watchdog fired
-        pass_len_ = c;
-        check_pass(passes[i]);
+        std::uint64_t c;
+        if (bound) {  // closed form: nothing is simulated or checked
+            c = run_pass_bound(passes[i]);
+            since_sync_ += c;
+        } else {
+            if (vcd_) vcd_->pass = std::uint32_t(i);
+            preload(passes[i]);
+            c = event_mode_ ? run_pass_event(passes[i]) : run_pass(passes[i]);
+            if (!error_.empty()) break;  // the watchdog fired
+            pass_len_ = c;
+            check_pass(passes[i]);
+        }
         c += cfg_.pass_overhead_cycles;
         result_.pass_cycles.push_back(c);
         result_.pass_index.push_back(std::uint32_t(i));
@@ -371,6 +364,7 @@ void Top::run_passes(const std::vector<Host::Pass>& passes) {
     if (since_sync_) wait(period_ * double(since_sync_));
     if (cfg_.pass_overhead_cycles) wait(period_ * double(cfg_.pass_overhead_cycles * chosen.size()));
     result_.total_cycles = total;
+    if (bound) result_.estimated = result_.lower_bound = true;
     if (chosen.size() < passes.size()) extrapolate(passes);
 }
 
