@@ -18,7 +18,7 @@ const char* memory_system_name(MemorySystem s) {
     }
 }
 
-std::vector<GroupWork> group_work(const Trace& t) {
+std::vector<GroupWork> group_work(const Trace& t, TriangleSelect select) {
     std::vector<GroupWork> w(t.groups.size());
     for (std::size_t g = 0; g < t.groups.size(); ++g) {
         w[g].primary = g < t.primary_groups;
@@ -27,8 +27,23 @@ std::vector<GroupWork> group_work(const Trace& t) {
             w[g].triangles_needed += n;
             w[g].rt_tests += std::uint64_t(__builtin_popcountll(h.rows)) * std::uint64_t(__builtin_popcountll(h.cols)) * n;
         }
+        if (select == TriangleSelect::any)
+            for (const SphereRun& r : t.groups[g].pairless)
+                for (std::uint32_t s = r.first; s < r.end(); ++s) w[g].pairless_triangles += t.tri_count[s];
+        w[g].triangles_needed += w[g].pairless_triangles;
     }
     return w;
+}
+
+std::uint64_t group_rti_cycles(const GroupWork& w, const SimConfig& cfg) {
+    const std::uint64_t pipes = cfg.icc.rti.pipes;
+    return (w.rt_tests + pipes - 1) / pipes + w.pairless_triangles * cfg.icc.fetcher.empty_cycles;
+}
+
+void check_trace_reading(const Trace& t, const SimConfig& cfg, const std::string& name) {
+    if (cfg.icc.decoder.select == TriangleSelect::any && !t.pairless)
+        throw InputError(name + ": made for icc.triangle_select = both, it carries no pair-less spheres; "
+                                "icc.triangle_select = any needs a trace from 'raplas trace --triangle-select any'");
 }
 
 std::uint64_t list_schedule_makespan(const std::vector<std::uint64_t>& durations, std::uint32_t iccs) {
@@ -59,7 +74,6 @@ double machine_area(const SimConfig& cfg) {
 
 namespace {
 
-std::uint64_t ceil_div(std::uint64_t a, std::uint64_t b) { return (a + b - 1) / b; }
 
 // Cycles a port delivering r records per cycle needs for n records.
 std::uint64_t port_cycles(std::uint64_t n, double r) {
@@ -79,17 +93,16 @@ std::uint64_t phased_makespan(const std::vector<GroupWork>& w, const std::vector
 
 SimResult baseline_result(const Trace& t, const SimConfig& cfg, MemoryStats& st,
                           const std::vector<std::uint64_t>* group_cycles) {
-    const std::vector<GroupWork> w = group_work(t);
+    const std::vector<GroupWork> w = group_work(t, cfg.icc.decoder.select);
     const std::uint64_t S = t.spheres.size(), T = t.triangles.size(), G = w.size();
     const std::uint32_t k = cfg.iccs;
     const double r = cfg.memory.records_per_cycle;
-    const std::uint32_t pipes = cfg.icc.rti.pipes;
     st = MemoryStats{};
     st.system = cfg.memory.system;
     st.area = machine_area(cfg);
 
     std::vector<std::uint64_t> rti(G);  // each group's RTI cycles
-    for (std::size_t g = 0; g < G; ++g) rti[g] = ceil_div(w[g].rt_tests, pipes);
+    for (std::size_t g = 0; g < G; ++g) rti[g] = group_rti_cycles(w[g], cfg);
     st.pe_bound_cycles = phased_makespan(w, rti, k);
 
     SimResult res;
@@ -160,7 +173,7 @@ namespace {
 // pass streams all spheres and triangles) and with ideal links (each pass as
 // long as its slowest ICC's RTI work).
 void streaming_bounds(const Trace& t, const SimConfig& cfg, const SimResult& r, MemoryStats& st) {
-    const std::vector<GroupWork> w = group_work(t);
+    const std::vector<GroupWork> w = group_work(t, cfg.icc.decoder.select);
     const std::uint64_t S = t.spheres.size(), T = t.triangles.size();
     st.sphere_records_read = r.sphere_link.records_sent;
     st.triangle_records_read = r.triangle_link.records_sent;
@@ -170,7 +183,7 @@ void streaming_bounds(const Trace& t, const SimConfig& cfg, const SimResult& r, 
         const std::size_t to = from == 0 ? t.primary_groups : w.size();
         for (std::size_t b = from; b < to; b += k) {
             std::uint64_t m = 0;
-            for (std::size_t g = b; g < std::min(to, b + k); ++g) m = std::max(m, ceil_div(w[g].rt_tests, cfg.icc.rti.pipes));
+            for (std::size_t g = b; g < std::min(to, b + k); ++g) m = std::max(m, group_rti_cycles(w[g], cfg));
             st.pe_bound_cycles += m;
         }
     }
@@ -180,6 +193,7 @@ void streaming_bounds(const Trace& t, const SimConfig& cfg, const SimResult& r, 
 }  // namespace
 
 SimResult simulate_system(const Trace& t, const SimConfig& cfg, MemoryStats& stats, const SimOptions& opt) {
+    check_trace_reading(t, cfg);
     if (cfg.memory.system == MemorySystem::streaming) {
         SimResult r = simulate(t, cfg, opt);
         stats = MemoryStats{};

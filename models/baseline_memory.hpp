@@ -17,13 +17,23 @@ namespace raplas::model {
 
 const char* memory_system_name(MemorySystem s);
 
-// What one ray group asks of a memory system.
+// What one ray group asks of a memory system: what its Triangle Selector
+// would keep under the reading `select` (docs/MODEL.md §3, §6).
 struct GroupWork {
-    std::uint64_t triangles_needed = 0;  // triangles of the spheres cut by a row and a column plane
+    std::uint64_t triangles_needed = 0;  // triangles kept: of the spheres cut by a row and a column plane,
+                                         // and under `any` also of those cut by row or column planes only
+    std::uint64_t pairless_triangles = 0;  // ... of which with no (ray, triangle) pair (`any` only)
     std::uint64_t rt_tests = 0;          // ray-triangle tests: sum of |rows| x |cols| x triangles
     bool primary = true;
 };
-std::vector<GroupWork> group_work(const Trace& t);
+std::vector<GroupWork> group_work(const Trace& t, TriangleSelect select = TriangleSelect::both);
+// An ICC's Ray-Triangle Intersector time for a group (memory.pe = rti, and
+// the streaming machine's PE bound): its tests over the pipes, plus
+// icc.rdf_empty_cycles for each triangle with no pair.
+std::uint64_t group_rti_cycles(const GroupWork& w, const SimConfig& cfg);
+// Throws InputError when the trace cannot serve the configured reading
+// (icc.triangle_select = any needs the pair-less spheres).
+void check_trace_reading(const Trace& t, const SimConfig& cfg, const std::string& name = "the trace");
 
 // Greedy list scheduling in issue order: each job goes to the ICC that is free
 // first (ties: lowest index); returns the time the last job ends.

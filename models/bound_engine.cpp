@@ -63,36 +63,70 @@ std::uint64_t Top::run_pass_bound(const Host::Pass& p) {
     const std::uint32_t n = trace_.groups[p.begin].n;
     const BoundSchedule& b = bound_schedule(n);
     const std::uint32_t pipes = cfg_.icc.rti.pipes, stages = cfg_.icc.rti.stages;
+    const std::uint32_t empty_cycles = cfg_.icc.fetcher.empty_cycles;
+    const bool keep_pairless = cfg_.icc.decoder.select == TriangleSelect::any;
     std::uint64_t end_cycle = std::max<std::uint64_t>(b.spheres_sent_by, b.tri_cycle.empty() ? 0 : b.tri_cycle.back() + 1);
     for (std::uint32_t gi = p.begin; gi < p.end; ++gi) {
         // The ICC's Ray Data Fetcher and RTI: next free issue cycle and the
-        // pipes used in it.
-        std::uint64_t next_cyc = 0;
+        // pipes used in it; `done`, the last cycle the back end is busy.
+        std::uint64_t next_cyc = 0, done = 0;
         std::uint32_t next_used = 0;
         bool any = false;
-        for (const SphereHitRec& h : trace_.groups[gi].sphere_hits) {
-            const std::uint64_t m = std::uint64_t(__builtin_popcountll(h.rows)) * std::uint64_t(__builtin_popcountll(h.cols));
-            if (m == 0) continue;  // not a hit: the Decoder does not queue it
-            const std::uint32_t first = trace_.first_tri[h.sphere], count = trace_.tri_count[h.sphere];
-            for (std::uint32_t tri = first; tri < first + count; ++tri) {
+        auto sphere = [&](std::uint32_t s, std::uint64_t m) {
+            for (std::uint32_t tri = trace_.first_tri[s]; tri < trace_.first_tri[s] + trace_.tri_count[s]; ++tri) {
                 std::uint64_t start = b.tri_cycle[tri] + 1;
                 std::uint32_t used = 0;
                 if (any && next_cyc >= start) {
                     start = next_cyc;
                     used = next_used;
-                    if (used == pipes) {
-                        ++start;
-                        used = 0;
+                }
+                if (used == pipes) {
+                    ++start;
+                    used = 0;
+                }
+                any = true;
+                if (m == 0) {  // no pair: empty_cycles cycles of the Fetcher, counting its first
+                    if (empty_cycles == 0) {
+                        next_cyc = start;
+                        next_used = used;
+                        done = std::max(done, start);
+                    } else {
+                        next_cyc = start + empty_cycles - 1;
+                        next_used = pipes;
+                        done = std::max(done, next_cyc);
                     }
+                    continue;
                 }
                 const std::uint64_t total = used + m;
                 next_cyc = start + (total - 1) / pipes;
                 next_used = std::uint32_t((total - 1) % pipes + 1);
-                any = true;
+                done = next_cyc + stages;  // the last result leaves the RTI
             }
+        };
+        // The spheres the Decoder queues, in stream order: the hit spheres
+        // and, under icc.triangle_select = any, the pair-less ones.
+        const TraceGroup& g = trace_.groups[gi];
+        std::size_t r = 0;
+        std::uint32_t in_run = 0;  // next sphere of run r
+        auto pairless_before = [&](std::uint32_t limit) {
+            for (; keep_pairless && r < g.pairless.size(); ++r) {
+                const SphereRun& run = g.pairless[r];
+                for (std::uint32_t s = std::max(run.first, in_run); s < run.end(); ++s) {
+                    if (s >= limit) {
+                        in_run = s;
+                        return;
+                    }
+                    sphere(s, 0);
+                }
+                in_run = 0;
+            }
+        };
+        for (const SphereHitRec& h : g.sphere_hits) {
+            pairless_before(h.sphere);
+            sphere(h.sphere, std::uint64_t(__builtin_popcountll(h.rows)) * std::uint64_t(__builtin_popcountll(h.cols)));
         }
-        // The last result leaves the RTI `stages` cycles after the last issue.
-        if (any) end_cycle = std::max(end_cycle, next_cyc + stages + 1);
+        pairless_before(~std::uint32_t(0));
+        if (any) end_cycle = std::max(end_cycle, done + 1);
     }
     return end_cycle;
 }

@@ -54,6 +54,15 @@ ParamSet machine_params() {
     p.add_int("icc.psi_stages", 10, 1, 1000, "pipeline stages of a Plane-Sphere Intersector (paper: 10)");
     p.add_int("icc.rti_pipes", 1, 1, 64, "Ray-Triangle Intersector pipes per ICC (paper: 1)");
     p.add_int("icc.rti_stages", 25, 1, 1000, "pipeline stages of the Ray-Triangle Intersector (paper: 25)");
+    p.add_string("icc.triangle_select", std::string("both"),
+                 "which spheres' triangles the Triangle Selector keeps: both = spheres cut by a row and a column "
+                 "plane (Step 6); any = every sphere any valid ray-plane cuts (paper §4: 'if it finds no intersected "
+                 "planes, the triangle data are discarded'), so a sphere cut by rows only or columns only sends "
+                 "triangles that give no (ray, triangle) pair (docs/MODEL.md §3)",
+                 {"both", "any"});
+    p.add_int("icc.rdf_empty_cycles", 1, 0, 1000,
+              "cycles the Ray Data Fetcher spends on a triangle with no (ray, triangle) pair (icc.triangle_select = "
+              "any), counting the cycle it is popped in; 0 = dropped at no cost");
     p.add_int("fifo.sphere_depth", 1000, 1, 100000000, "Sphere FIFO depth, records (paper: 10/100/1000)");
     p.add_int("fifo.triangle_depth", 1000, 1, 100000000, "Triangle FIFO depth, records (paper: 10/100/1000)");
     p.add_int("fifo.planeid_depth", 1000, 1, 100000000,
@@ -159,6 +168,8 @@ SimConfig config_from_params(const ParamSet& p) {
     c.icc.psi.stages = std::uint32_t(p.get_int("icc.psi_stages"));
     c.icc.rti.pipes = std::uint32_t(p.get_int("icc.rti_pipes"));
     c.icc.rti.stages = std::uint32_t(p.get_int("icc.rti_stages"));
+    c.icc.decoder.select = p.get_string("icc.triangle_select") == "any" ? TriangleSelect::any : TriangleSelect::both;
+    c.icc.fetcher.empty_cycles = std::uint32_t(p.get_int("icc.rdf_empty_cycles"));
     c.icc.sphere_fifo.depth = std::uint32_t(p.get_int("fifo.sphere_depth"));
     c.icc.triangle_fifo.depth = std::uint32_t(p.get_int("fifo.triangle_depth"));
     c.icc.planeid_fifo.depth = std::uint32_t(p.get_int("fifo.planeid_depth"));

@@ -1,9 +1,14 @@
-// Decoder: turns a PSI result into work. A sphere hit by at least one row
-// plane and one column plane goes into the PlaneID FIFO (its plane masks,
-// decoded to plane/ray ids through the Decoder Table) and the
-// First-Triangle-ID FIFO (its triangle range); both move in lockstep. Every
-// decided sphere, hit or not, advances the `decided` count the Triangle
-// Selector waits on.
+// Decoder: turns a PSI result into work. A sphere to be kept goes into the
+// PlaneID FIFO (its plane masks, decoded to plane/ray ids through the Decoder
+// Table) and the First-Triangle-ID FIFO (its triangle range); both move in
+// lockstep. Which spheres are kept is the reading of the paper's Triangle
+// Selector (icc.triangle_select, docs/MODEL.md §3): `both` keeps a sphere hit
+// by at least one row plane and one column plane (Step 6), `any` every sphere
+// at least one valid ray-plane cuts (§4's "if it finds no intersected planes,
+// the triangle data are discarded"); a sphere cut by rows only or columns
+// only then gives its triangles no (ray, triangle) pair. Every decided
+// sphere, kept or not, advances the `decided` count the Triangle Selector
+// waits on.
 #pragma once
 
 #include "fifo.hpp"
@@ -18,20 +23,33 @@ struct FirstTriEntry {
     std::uint32_t sphere = 0, first = 0, count = 0;
 };
 
+enum class TriangleSelect { both, any };
+
+// Does the Decoder queue this PSI result under reading `sel`?
+inline bool queued(const PsiResult& r, TriangleSelect sel) {
+    return (r.rows && r.cols) || (sel == TriangleSelect::any && r.cut);
+}
+
 class Decoder : public sc_core::sc_module {
 public:
-    struct Params {};
+    struct Params {
+        TriangleSelect select = TriangleSelect::both;
+    };
     struct Stats {
         std::uint64_t decided = 0;
-        std::uint64_t sphere_hits = 0;
+        std::uint64_t sphere_hits = 0;  // spheres queued (kept)
+        std::uint64_t pairless = 0;     // ... of which cut by row planes only or column planes only (any)
         std::uint64_t full_cycles = 0;  // a hit could not be queued (FIFOs full)
     };
-    Decoder(sc_core::sc_module_name n, const Params& p = {}) : sc_core::sc_module(n), params_(p) {}
+    Decoder(sc_core::sc_module_name n, const Params& p) : sc_core::sc_module(n), params_(p) {}
 
     void start_group() { decided_ = 0; }
     void end_group() { stats_.decided += decided_; }
     void set_decided(std::uint32_t d) { decided_ = d; }
-    void note_hit() { ++stats_.sphere_hits; }
+    void note_hit(bool pairless) {
+        ++stats_.sphere_hits;
+        stats_.pairless += pairless;
+    }
     std::uint32_t decided() const { return decided_; }
 
     // Returns true when the PSI must hold this cycle.
@@ -40,7 +58,7 @@ public:
               const SphereInfo& info) {
         if (!psi.has_output()) return false;
         const PsiResult& r = psi.output();
-        if (r.rows && r.cols) {
+        if (queued(r, params_.select)) {
             if (plane_ids.full() || first_ids.full()) {
                 ++stats_.full_cycles;
                 if (plane_ids.full()) plane_ids.note_full();
@@ -49,7 +67,7 @@ public:
             }
             plane_ids.push({r.rows, r.cols});
             first_ids.push({r.sphere, info.first_tri(r.sphere), info.tri_count(r.sphere)});
-            ++stats_.sphere_hits;
+            note_hit(!(r.rows && r.cols));
         }
         decided_ = r.sphere + 1;
         psi.pop_output();

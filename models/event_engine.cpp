@@ -71,19 +71,27 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p) {
     const std::uint32_t stages = cfg_.icc.psi.stages;
     const std::uint32_t rti_pipes = cfg_.icc.rti.pipes, rti_stages = cfg_.icc.rti.stages;
     const std::uint32_t tri_depth = cfg_.icc.triangle_fifo.depth;
+    const std::uint32_t rdf_empty = cfg_.icc.fetcher.empty_cycles;
     const bool any_full = cfg_.icc.selector.policy == StallPolicy::any_full;
     const bool computes = functional_.mode() == FunctionalMode::compute;  // else the trace gives the hits
 
     std::vector<Role> role(na, ref);
     std::size_t n_ref = na;
-    // Hit spheres of every ICC, in sphere order (used for the reference ICCs).
+    // Spheres every ICC's Decoder queues, in sphere order (used for the
+    // reference ICCs): its hit spheres and, under icc.triangle_select = any,
+    // its pair-less spheres (masks 0: their triangles give no pair).
     struct HitEv {
         std::uint32_t sphere, icc;
         std::uint64_t rows, cols;
     };
     std::vector<HitEv> hits;
-    for (std::size_t k = 0; k < na; ++k)
+    const bool keep_pairless = cfg_.icc.decoder.select == TriangleSelect::any;
+    for (std::size_t k = 0; k < na; ++k) {
         for (const auto& h : active[k]->unit().sphere_hits()) hits.push_back({h.sphere, std::uint32_t(k), h.rows, h.cols});
+        if (keep_pairless)
+            for (const SphereRun& r : active[k]->unit().pairless())
+                for (std::uint32_t s = r.first; s < r.end(); ++s) hits.push_back({s, std::uint32_t(k), 0, 0});
+    }
     std::sort(hits.begin(), hits.end(), [](const HitEv& a, const HitEv& b) {
         return a.sphere < b.sphere || (a.sphere == b.sphere && a.icc < b.icc);
     });
@@ -145,12 +153,33 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p) {
                 used = 0;
             }
         }
-        const std::uint64_t total = used + m;
-        const std::uint64_t end = start + (total - 1) / rti_pipes;
-        b.next_cyc = end;
-        b.next_used = std::uint32_t((total - 1) % rti_pipes + 1);
-        b.any = true;
-        b.done = end + rti_stages;
+        if (m == 0) {
+            // No pair: popped at the free slot, it holds the Fetcher for
+            // empty_cycles cycles counting that one (to the end of it, so
+            // the next triangle starts a cycle later), or costs nothing.
+            if (used == rti_pipes) {
+                ++start;
+                used = 0;
+            }
+            b.any = true;
+            if (rdf_empty == 0) {
+                b.next_cyc = start;
+                b.next_used = used;
+                b.done = std::max(b.done, start);
+            } else {
+                b.next_cyc = start + rdf_empty - 1;
+                b.next_used = rti_pipes;
+                b.done = std::max(b.done, b.next_cyc);
+            }
+        } else {
+            const std::uint64_t total = used + m;
+            const std::uint64_t end = start + (total - 1) / rti_pipes;
+            b.next_cyc = end;
+            b.next_used = std::uint32_t((total - 1) % rti_pipes + 1);
+            b.any = true;
+            b.done = end + rti_stages;
+            icc.rti.account(m, 0, (end - start + 1) - (used > 0 ? 1 : 0));
+        }
         max_done = std::max(max_done, b.done);
         b.starts.push_back(start);
         icc.triangle_fifo.record_push(std::uint32_t(b.starts.size()));
@@ -171,8 +200,8 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p) {
                 }
             }
         }
-        icc.rti.account(m, nhits, (end - start + 1) - (used > 0 ? 1 : 0));
-        icc.ray_data_fetcher.note_triangle();
+        icc.rti.account(0, nhits, 0);
+        icc.ray_data_fetcher.note_triangle(m == 0);
     };
 
     // Fault injection: a stuck PSI makes its ICC's sphere side its own from the start.
@@ -346,7 +375,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p) {
                 const bool was_empty = c.first_tri_fifo.empty();
                 c.planeid_fifo.push({h.rows, h.cols});
                 c.first_tri_fifo.push({x, first_tri(x), sphere_memory.peek(x).tri_count});
-                c.decoder.note_hit();
+                c.decoder.note_hit(!(h.rows && h.cols));
                 if (was_empty) waiting.push({first_tri(x), h.icc});
             }
         }

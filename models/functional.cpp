@@ -11,7 +11,7 @@ namespace {
 template <class A>
 class ComputeFunctional final : public Functional {
 public:
-    ComputeFunctional(const Trace& t, A a, bool cull) : a_(a) {
+    ComputeFunctional(const Trace& t, A a, bool cull, bool pairless) : a_(a), pairless_(pairless) {
         if (cull) tree_ = SphereTree(t.spheres);
         for (const auto& s : t.spheres) spheres_.push_back(load(a_, s));
         tris_.reserve(t.triangles.size());
@@ -32,13 +32,15 @@ public:
             rays_.resize(std::size_t(n_) * n_);
             for (std::uint32_t v = 0; v < n_; ++v)
                 for (std::uint32_t h = 0; h < n_; ++h) rays_[v * n_ + h] = raplas::load(f_.a_, g.ray(h, v));
+            std::vector<SphereRun>* runs = f_.pairless_ ? &runs_ : nullptr;
             if (f_.tree_.empty())
-                group_sphere_hits(f_.a_, planes_.data(), n_, g.row_valid, g.col_valid, f_.spheres_, hits_);
+                group_sphere_hits(f_.a_, planes_.data(), n_, g.row_valid, g.col_valid, f_.spheres_, hits_, runs);
             else
                 group_sphere_hits_culled(f_.a_, g.planes.data(), planes_.data(), n_, g.row_valid, g.col_valid,
-                                         f_.spheres_, f_.tree_, hits_);
+                                         f_.spheres_, f_.tree_, hits_, runs);
         }
         const std::vector<SphereHitRec>& sphere_hits() const override { return hits_; }
+        const std::vector<SphereRun>& pairless() const override { return runs_; }
         bool rti(std::uint32_t ray, std::uint32_t tri, double& t) override {
             return ray_hits_triangle(f_.a_, rays_[ray], f_.tris_[tri], t);
         }
@@ -49,12 +51,14 @@ public:
         std::vector<PlaneA<A>> planes_;
         std::vector<RayA<A>> rays_;
         std::vector<SphereHitRec> hits_;
+        std::vector<SphereRun> runs_;
     };
 
     std::unique_ptr<GroupUnit> make_unit() const override { return std::make_unique<Unit>(*this); }
 
 private:
     A a_;
+    bool pairless_;
     SphereSoA<A> spheres_;
     std::vector<TriA<A>> tris_;
     SphereTree tree_;  // empty: every sphere tested
@@ -67,6 +71,7 @@ public:
     public:
         void load(const TraceGroup& g) override { g_ = &g; }
         const std::vector<SphereHitRec>& sphere_hits() const override { return g_->sphere_hits; }
+        const std::vector<SphereRun>& pairless() const override { return g_->pairless; }
         bool rti(std::uint32_t, std::uint32_t, double&) override { return false; }
 
     private:
@@ -77,12 +82,16 @@ public:
 
 }  // namespace
 
-std::unique_ptr<Functional> Functional::create(const Trace& t, const NumFormat& format, FunctionalMode mode, bool cull) {
+std::unique_ptr<Functional> Functional::create(const Trace& t, const NumFormat& format, FunctionalMode mode, bool cull,
+                                               bool pairless) {
     if (mode == FunctionalMode::trace) return std::make_unique<TraceFunctional>();
     switch (format.kind) {
-        case NumFormat::Kind::f32: return std::make_unique<ComputeFunctional<ArithF32>>(t, ArithF32{format.rti}, cull);
-        case NumFormat::Kind::f64: return std::make_unique<ComputeFunctional<ArithF64>>(t, ArithF64{format.rti}, cull);
-        case NumFormat::Kind::custom: return std::make_unique<ComputeFunctional<ArithSoft>>(t, ArithSoft{format, true}, cull);
+        case NumFormat::Kind::f32:
+            return std::make_unique<ComputeFunctional<ArithF32>>(t, ArithF32{format.rti}, cull, pairless);
+        case NumFormat::Kind::f64:
+            return std::make_unique<ComputeFunctional<ArithF64>>(t, ArithF64{format.rti}, cull, pairless);
+        case NumFormat::Kind::custom:
+            return std::make_unique<ComputeFunctional<ArithSoft>>(t, ArithSoft{format, true}, cull, pairless);
     }
     return nullptr;
 }

@@ -18,6 +18,9 @@ public:
     // Plane-Sphere Intersectors' results for the loaded group: every sphere
     // cut by a row and a column plane, ascending, with its masks.
     virtual const std::vector<SphereHitRec>& sphere_hits() const = 0;
+    // ... and the spheres cut by row planes only or column planes only, as
+    // runs (empty unless the functional model was made for them).
+    virtual const std::vector<SphereRun>& pairless() const = 0;
     // Ray-Triangle Intersector: true and t when ray (v*N+h) hits the triangle.
     virtual bool rti(std::uint32_t ray, std::uint32_t tri, double& t) = 0;
 };
@@ -32,9 +35,11 @@ public:
     FunctionalMode mode() const { return mode_; }
 
     // compute: the core library in `format`; trace: masks from the trace
-    // (no per-test arithmetic; final hits cannot be checked).
+    // (no per-test arithmetic; final hits cannot be checked). pairless: the
+    // units also find the pair-less spheres (compute) or take them from the
+    // trace (which must carry them).
     static std::unique_ptr<Functional> create(const Trace& t, const NumFormat& format, FunctionalMode mode,
-                                              bool cull = true);
+                                              bool cull = true, bool pairless = false);
 
 protected:
     FunctionalMode mode_ = FunctionalMode::compute;

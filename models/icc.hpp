@@ -37,7 +37,9 @@ public:
         FifoParams triangle_fifo{1000};
         FifoParams planeid_fifo{1000};
         PlaneSphereIntersector::Params psi;
+        Decoder::Params decoder;
         RayTriangleIntersector::Params rti;
+        RayDataFetcher::Params fetcher;
         TriangleSelector::Params selector;
         MinDistanceMemory::Params min_distance;
         OutputLink::Params output;
@@ -53,12 +55,12 @@ public:
           sphere_selector("sphere_selector"),
           sphere_fifo("sphere_fifo", p.sphere_fifo),
           psi("psi", p.psi),
-          decoder("decoder"),
+          decoder("decoder", p.decoder),
           planeid_fifo("planeid_fifo", p.planeid_fifo),
           first_tri_fifo("first_tri_fifo", p.planeid_fifo),
           triangle_selector("triangle_selector", p.selector),
           triangle_fifo("triangle_fifo", p.triangle_fifo),
-          ray_data_fetcher("ray_data_fetcher"),
+          ray_data_fetcher("ray_data_fetcher", p.fetcher),
           rti("rti", p.rti),
           min_distance("min_distance_memory", p.min_distance),
           output("output_link", p.output),
@@ -81,7 +83,8 @@ public:
         rti_busy_before_ = rti.stats().busy_cycles;
         if (loaded_ != g) unit_->load(*g);
         loaded_ = nullptr;
-        psi.start_group(2 * g->n, &unit_->sphere_hits());
+        psi.start_group(2 * g->n, &unit_->sphere_hits(),
+                        params_.decoder.select == TriangleSelect::any ? &unit_->pairless() : nullptr);
         ray_data_fetcher.start_group(g->n);
         min_distance.reset(std::size_t(g->n) * g->n);
     }

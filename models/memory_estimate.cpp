@@ -28,7 +28,14 @@ std::vector<MemoryItem> model_memory(const SimConfig& c, const TraceShape& t) {
     const double per_icc = sizeof(Icc) + kSystemCPerIcc + double(c.icc.rti.stages) * (c.icc.rti.pipes * sizeof(RtiOp) + 4) +
                            (c.icc.psi.stages + 2.0) * sizeof(PsiResult) + sizeof(IccSnapshot);
     double per_active = double(n) * n * sizeof(Hit);
-    if (compute) per_active += 2.0 * n * 4 * fb + double(n) * n * 8 * fb + 1.5 * hits_per_group * sizeof(SphereHitRec);
+    // (pair-less spheres: under icc.triangle_select = any, kept as runs by the
+    // group unit and, in event mode, one queued-sphere record each)
+    const bool any = c.icc.decoder.select == TriangleSelect::any;
+    const double runs_per_group = groups > 0 && any ? t.pairless_runs / groups : 0;
+    const double pairless_per_group = groups > 0 && any ? t.pairless_spheres / groups : 0;
+    if (compute)
+        per_active += 2.0 * n * 4 * fb + double(n) * n * 8 * fb + 1.5 * hits_per_group * sizeof(SphereHitRec) +
+                      1.5 * runs_per_group * sizeof(SphereRun);
     const double active = std::min(double(c.iccs), std::max(groups, 1.0));
     std::vector<MemoryItem> items;
     items.push_back({std::to_string(c.iccs) + " ICCs x FIFO depths " + std::to_string(c.icc.triangle_fifo.depth) + "/" +
@@ -39,7 +46,7 @@ std::vector<MemoryItem> model_memory(const SimConfig& c, const TraceShape& t) {
     // format; event mode: every ICC's sphere hits of a pass in one list.
     double shared = double(t.spheres) * (sizeof(SphereRecord)) + double(t.triangles) * (sizeof(TriangleRec) + 4);
     if (compute) shared += double(t.spheres) * 4 * fb + double(t.triangles) * 12 * fb;
-    if (c.mode == SimMode::event) shared += active * hits_per_group * sizeof(SphereHitRec);
+    if (c.mode == SimMode::event) shared += active * (hits_per_group + pairless_per_group) * 24;  // queued-sphere events
     items.push_back({"stream memories (" + std::to_string(t.spheres) + " spheres, " + std::to_string(t.triangles) +
                          " triangles)",
                      shared});

@@ -14,7 +14,8 @@ namespace raplas::model {
 
 struct PsiResult {
     std::uint32_t sphere = 0;
-    std::uint64_t rows = 0, cols = 0;
+    std::uint64_t rows = 0, cols = 0;  // of a sphere cut by a row and a column plane; else 0
+    bool cut = false;                  // some valid plane cuts it (rows or cols, or a pair-less sphere)
     std::uint64_t ready = 0;  // pipe-local time at which it leaves the last stage
 };
 
@@ -35,8 +36,11 @@ public:
     PlaneSphereIntersector(sc_core::sc_module_name n, const Params& p) : sc_core::sc_module(n), params_(p) {}
 
     // `hits`: the group's spheres cut by a row and a column plane, ascending
-    // (the functional result of the pipes, see GroupUnit::sphere_hits).
-    void start_group(std::uint32_t planes, const std::vector<SphereHitRec>* hits) {
+    // (the functional result of the pipes, see GroupUnit::sphere_hits);
+    // `pairless`: those cut by row planes only or column planes only, when
+    // known (the Decoder needs them under icc.triangle_select = any).
+    void start_group(std::uint32_t planes, const std::vector<SphereHitRec>* hits,
+                     const std::vector<SphereRun>* pairless = nullptr) {
         planes_ = planes;
         batches_ = (planes + params_.pipes - 1) / params_.pipes;
         if (batches_ == 0) batches_ = 1;
@@ -45,7 +49,8 @@ public:
         t_ = 0;
         next_issue_ = 0;
         hits_ = hits;
-        cursor_ = 0;
+        pairless_ = pairless;
+        cursor_ = run_cursor_ = 0;
         group_spheres_ = 0;
     }
     // End of a pass: figures that follow from the spheres tested.
@@ -79,18 +84,8 @@ public:
         t_ = o.t_;
         next_issue_ = o.next_issue_;
         group_spheres_ = o.group_spheres_;
-        cursor_ = 0;
-        const auto& list = *hits_;
-        for (std::size_t i = 0, j = head_; i < count_; ++i, j = j + 1 == ring_.size() ? 0 : j + 1) {
-            PsiResult& r = ring_[j];
-            while (cursor_ < list.size() && list[cursor_].sphere < r.sphere) ++cursor_;
-            if (cursor_ < list.size() && list[cursor_].sphere == r.sphere) {
-                r.rows = list[cursor_].rows;
-                r.cols = list[cursor_].cols;
-            } else {
-                r.rows = r.cols = 0;
-            }
-        }
+        cursor_ = run_cursor_ = 0;
+        for (std::size_t i = 0, j = head_; i < count_; ++i, j = j + 1 == ring_.size() ? 0 : j + 1) fill(ring_[j]);
     }
     // Steady streaming (one sphere in and one result out per cycle, one batch
     // per sphere, a full pipe): n cycles in which spheres next, next+1, ...
@@ -103,6 +98,7 @@ public:
             ++count_;
             r.sphere = std::uint32_t(next + j);
             r.rows = r.cols = 0;
+            r.cut = false;
             r.ready = t_ + j + params_.stages;
         };
         if (n >= depth) {
@@ -140,14 +136,7 @@ public:
             ++count_;
             r.sphere = in.front();
             in.pop();
-            const auto& list = *hits_;
-            while (cursor_ < list.size() && list[cursor_].sphere < r.sphere) ++cursor_;
-            if (cursor_ < list.size() && list[cursor_].sphere == r.sphere) {
-                r.rows = list[cursor_].rows;
-                r.cols = list[cursor_].cols;
-            } else {
-                r.rows = r.cols = 0;
-            }
+            fill(r);
             r.ready = t_ + batches_ - 1 + params_.stages;
             next_issue_ = t_ + batches_;
             ++group_spheres_;
@@ -160,13 +149,33 @@ public:
     const Stats& stats() const { return stats_; }
 
 private:
+    // The result for r.sphere from the group's lists (spheres arrive in
+    // ascending order, so the cursors only move forward).
+    void fill(PsiResult& r) {
+        const auto& list = *hits_;
+        while (cursor_ < list.size() && list[cursor_].sphere < r.sphere) ++cursor_;
+        r.rows = r.cols = 0;
+        r.cut = false;
+        if (cursor_ < list.size() && list[cursor_].sphere == r.sphere) {
+            r.rows = list[cursor_].rows;
+            r.cols = list[cursor_].cols;
+            r.cut = true;
+            return;
+        }
+        if (!pairless_) return;
+        const auto& runs = *pairless_;
+        while (run_cursor_ < runs.size() && runs[run_cursor_].end() <= r.sphere) ++run_cursor_;
+        r.cut = run_cursor_ < runs.size() && runs[run_cursor_].first <= r.sphere;
+    }
+
     Params params_;
     std::uint32_t planes_ = 0, batches_ = 1;
     std::vector<PsiResult> ring_;  // in flight, oldest at head_
     std::size_t head_ = 0, tail_ = 0, count_ = 0;
     std::uint64_t t_ = 0, next_issue_ = 0;
     const std::vector<SphereHitRec>* hits_ = nullptr;
-    std::size_t cursor_ = 0;
+    const std::vector<SphereRun>* pairless_ = nullptr;
+    std::size_t cursor_ = 0, run_cursor_ = 0;
     std::uint64_t group_spheres_ = 0;
     bool stuck_ = false;
     Stats stats_;

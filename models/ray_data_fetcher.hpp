@@ -2,6 +2,10 @@
 // feeds the Ray-Triangle Intersector one (ray, triangle) pair per pipe per
 // cycle for every ray (h, v) with v in the row mask and h in the column
 // mask, rows first. A triangle popped in a cycle issues in that same cycle.
+// A triangle with no pair (its sphere cut by row planes only or column
+// planes only, kept under icc.triangle_select = any) holds the Fetcher for
+// `empty_cycles` cycles, counting the one it is popped in, with nothing
+// issued; with 0 it is dropped at no cost (docs/MODEL.md §3).
 #pragma once
 
 #include "fifo.hpp"
@@ -12,28 +16,45 @@ namespace raplas::model {
 
 class RayDataFetcher : public sc_core::sc_module {
 public:
-    struct Params {};
+    struct Params {
+        std::uint32_t empty_cycles = 1;
+    };
     struct Stats {
         std::uint64_t triangles = 0;
-        std::uint64_t starved_cycles = 0;  // pass cycles in which no pair was issued
+        std::uint64_t empty_triangles = 0;  // ... of which with no (ray, triangle) pair
+        std::uint64_t starved_cycles = 0;   // pass cycles in which no pair was issued
     };
-    RayDataFetcher(sc_core::sc_module_name n, const Params& p = {}) : sc_core::sc_module(n), params_(p) {}
+    RayDataFetcher(sc_core::sc_module_name n, const Params& p) : sc_core::sc_module(n), params_(p) {}
 
     void start_group(std::uint32_t n) {
         n_ = n;
         busy_ = false;
+        empty_left_ = 0;
     }
-    bool idle() const { return !busy_; }
+    bool idle() const { return !busy_ && !empty_left_; }
     void add_starved(std::uint64_t cycles) { stats_.starved_cycles += cycles; }
-    void note_triangle() { ++stats_.triangles; }
+    void note_triangle(bool empty) {
+        ++stats_.triangles;
+        stats_.empty_triangles += empty;
+    }
 
     void tick(Fifo<TriWork>& in, RayTriangleIntersector& rti) {
+        if (empty_left_) {  // still on a triangle with no pair
+            --empty_left_;
+            return;
+        }
         while (rti.can_issue()) {
             if (!busy_) {
                 if (in.empty()) break;
                 cur_ = in.front();
                 in.pop();
-                ++stats_.triangles;
+                const bool empty = !cur_.rows || !cur_.cols;
+                note_triangle(empty);
+                if (empty) {
+                    if (params_.empty_cycles == 0) continue;
+                    empty_left_ = params_.empty_cycles - 1;
+                    break;
+                }
                 busy_ = true;
                 rows_left_ = cur_.rows;
                 cols_left_ = cur_.cols;
@@ -62,6 +83,7 @@ private:
     Params params_;
     std::uint32_t n_ = 0;
     bool busy_ = false;
+    std::uint32_t empty_left_ = 0;  // cycles still held by a triangle with no pair
     TriWork cur_;
     std::uint64_t rows_left_ = 0, cols_left_ = 0;
     Stats stats_;

@@ -57,7 +57,7 @@ Top::Top(sc_core::sc_module_name n, const SimConfig& cfg, const Trace& trace, co
     if (event_mode_ || bound) {
         ref_fifo_ = std::make_unique<SphereFifo>("shared_sphere_fifo", cfg.icc.sphere_fifo);
         ref_psi_ = std::make_unique<PlaneSphereIntersector>("shared_psi", cfg.icc.psi);
-        ref_decoder_ = std::make_unique<Decoder>("shared_decoder");
+        ref_decoder_ = std::make_unique<Decoder>("shared_decoder", cfg.icc.decoder);
         ref_planeid_ = std::make_unique<Fifo<PlaneIdEntry>>("shared_planeid_fifo", FifoParams{1});
         ref_first_tri_ = std::make_unique<Fifo<FirstTriEntry>>("shared_first_tri_fifo", FifoParams{1});
     }
@@ -137,7 +137,7 @@ IccView Top::view_of(const Icc& c, std::size_t k) const {
     v.triangle_fifo = c.triangle_fifo.size();
     v.triangle_depth = c.triangle_fifo.depth();
     v.decided = c.decoder.decided();
-    v.psi_held = c.psi.has_output() && c.psi.output().rows && c.psi.output().cols &&
+    v.psi_held = c.psi.has_output() && queued(c.psi.output(), cfg_.icc.decoder.select) &&
                  (c.planeid_fifo.full() || c.first_tri_fifo.full());
     v.back_busy = !c.back_idle();
     return v;
@@ -372,7 +372,12 @@ SimResult simulate(const Trace& trace, const SimConfig& cfg, const SimOptions& o
     sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
     // fifo_bound reads the sphere hits from the trace and tests nothing.
     const bool bound = cfg.estimate == Estimate::fifo_bound;
-    auto functional = Functional::create(trace, cfg.format, bound ? FunctionalMode::trace : cfg.functional, cfg.cull);
+    const bool pairless = cfg.icc.decoder.select == TriangleSelect::any;
+    if (pairless && !trace.pairless)
+        throw InputError("icc.triangle_select = any needs a trace that carries the pair-less spheres "
+                         "('raplas trace --triangle-select any')");
+    auto functional =
+        Functional::create(trace, cfg.format, bound ? FunctionalMode::trace : cfg.functional, cfg.cull, pairless);
     auto top = std::make_unique<Top>("raplas", cfg, trace, *functional, opt);
     auto t0 = std::chrono::steady_clock::now();
     sc_core::sc_start();

@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
 """sim.estimate = fifo_bound: over a seeded grid of scenes, ICC counts, FIFO
-depths, PSI pipe counts, stall policies and triangle-stream lags,
+depths, PSI pipe counts and stages, RTI pipe counts and stages, stall
+policies, triangle-stream lags, both Triangle Selector readings and the Ray
+Data Fetcher's cycles on a triangle with no pair,
   1. every pass's bound is at most the exact pass's cycles;
   2. it equals them when no Triangle or PlaneID FIFO filled in the exact run
      (max occupancy below the depth in every ICC), and always when both FIFOs
@@ -42,7 +44,7 @@ rng = random.Random(20071008)
 with tempfile.TemporaryDirectory() as tmp:
     for name, args in scenes:
         trace = os.path.join(tmp, name + ".trace")
-        subprocess.run([raplas, "trace", "--out", trace, "-q"] + args, check=True)
+        subprocess.run([raplas, "trace", "--triangle-select", "any", "--out", trace, "-q"] + args, check=True)
         for i in range(points_per_scene):
             fifo = rng.choice([1, 2, 10, 100, 1000])
             cfg = ["--iccs", str(rng.choice([1, 2, 5, 16])), "--fifo", str(fifo),
@@ -50,6 +52,11 @@ with tempfile.TemporaryDirectory() as tmp:
                    "--set", f"fifo.sphere_depth={rng.choice([1, 10, 1000])}",
                    "--set", f"link.stall_policy={rng.choice(['any_full', 'needed_full'])}",
                    "--set", f"icc.psi_pipes={rng.choice([32, 8, 5])}",
+                   "--set", f"icc.psi_stages={rng.choice([10, 3])}",
+                   "--set", f"icc.rti_pipes={rng.choice([1, 2, 4])}",
+                   "--set", f"icc.rti_stages={rng.choice([25, 4])}",
+                   "--set", f"icc.triangle_select={'any' if i % 2 else 'both'}",
+                   "--set", f"icc.rdf_empty_cycles={rng.choice([0, 1, 3])}",
                    "--set", f"link.triangle_lag_cycles={rng.choice([0, 7, 40])}",
                    "--set", "sim.functional=trace"]
             what = f"{name} {' '.join(cfg)}"

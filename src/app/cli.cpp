@@ -59,7 +59,7 @@ int cmd_render(const SceneOptions& so, const std::string& out_png, const std::st
     return 0;
 }
 
-int cmd_trace(const SceneOptions& so, const std::string& out, const std::string& json) {
+int cmd_trace(const SceneOptions& so, const std::string& out, const std::string& json, const std::string& select) {
     NumFormat fmt = so.parsed_format();
     Scene scene;
     RenderReport rep;
@@ -69,10 +69,11 @@ int cmd_trace(const SceneOptions& so, const std::string& out, const std::string&
     fo.threads = so.threads;
     fo.cull = !so.no_cull;
     fo.record = true;
+    fo.pairless = select == "any";
     check_front_end(FrontEndUse::trace_file, scene, fo);
     Frame frame = render_frame(scene, fo);
     auto t0 = std::chrono::steady_clock::now();
-    Trace t = make_trace(scene, frame, fmt);
+    Trace t = make_trace(scene, frame, fmt, fo.pairless);
     std::string bytes = serialize_trace(t);
     write_file_atomically(out, bytes);
     rep.write_s = since(t0);
@@ -145,10 +146,16 @@ int run_cli(int argc, char** argv) {
     render->add_option("--json", json, "counts and per-phase wall time as JSON");
 
     SceneOptions trace_so;
-    std::string trace_out, trace_json;
+    std::string trace_out, trace_json, trace_select = "both";
     auto* trace = app.add_subcommand("trace", "write the profile trace the timing model consumes (docs/TRACE.md)");
     trace_so.add_to(trace);
     trace->add_option("-o,--out", trace_out, "trace file")->required();
+    trace->add_option("--triangle-select", trace_select,
+                      "the Triangle Selector reading the trace serves: both (spheres cut by a row and a column plane) "
+                      "or any (also records the spheres cut by row planes only or column planes only, for "
+                      "icc.triangle_select = any; serves both readings)")
+        ->check(CLI::IsMember({"both", "any"}))
+        ->capture_default_str();
     trace->add_option("--json", trace_json, "counts and per-phase wall time as JSON");
 
     SimulateArgs sim;
@@ -185,7 +192,7 @@ int run_cli(int argc, char** argv) {
             ::setenv("RAPLAS_MAX_MEMORY", max_memory.c_str(), 1);
         }
         if (render->parsed()) return cmd_render(render_so, out_png, heatmap, hits, json);
-        if (trace->parsed()) return cmd_trace(trace_so, trace_out, trace_json);
+        if (trace->parsed()) return cmd_trace(trace_so, trace_out, trace_json, trace_select);
         if (simulate->parsed()) return cmd_simulate(sim);
         if (sweep->parsed()) return cmd_sweep(sweep_args);
     } catch (const InputError& e) {

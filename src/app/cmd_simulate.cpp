@@ -91,6 +91,7 @@ int cmd_simulate(const SimulateArgs& a) {
         struct stat st{};
         if (::stat(a.trace.c_str(), &st) == 0 && S_ISREG(st.st_mode)) check_trace_read(a.trace, std::uint64_t(st.st_size));
         trace = read_trace(a.trace);
+        model::check_trace_reading(trace, cfg, a.trace);
         scene_name = trace.scene_name;
         if (cfg.functional == model::FunctionalMode::compute && !(trace.format == cfg.format))
             throw InputError(a.trace + ": trace was made in " + trace.format.name() + " but numerics.format is " +
@@ -109,10 +110,11 @@ int cmd_simulate(const SimulateArgs& a) {
         fo.threads = so.threads;
         fo.cull = !so.no_cull;
         fo.record = true;
+        fo.pairless = cfg.icc.decoder.select == model::TriangleSelect::any;
         check_model_up_front(cfg, scene);
         check_front_end(FrontEndUse::simulate, scene, fo);
         Frame frame = render_frame(scene, fo);
-        trace = make_trace(scene, std::move(frame), cfg.format);
+        trace = make_trace(scene, std::move(frame), cfg.format, fo.pairless);
         scene_name = scene.name;
     }
     const double frontend_s = std::chrono::duration<double>(clock::now() - t0).count();

@@ -136,6 +136,7 @@ struct Sweep {
     std::vector<std::string> scene_sets, config_sets;   // --set, split by what they name
     std::vector<std::string> trace_sets;                // scene sets, then the config's workload
     std::string format;                                 // numerics.format of the config
+    std::string triangle_select;                        // icc.triangle_select of the config
     std::vector<std::uint32_t> iccs{0}, fifo{0};
     std::string wd;                                     // absolute
     json spec;
@@ -154,7 +155,7 @@ struct Sweep {
         const Input& in = inputs[s];
         if (in.kind != "builtin") v.insert(v.end(), {"--" + in.kind, in.path});
         for (const auto& x : trace_sets) v.insert(v.end(), {"--set", x});
-        v.insert(v.end(), {"--format", format, "--out", trace_file(s), "-q"});
+        v.insert(v.end(), {"--format", format, "--triangle-select", triangle_select, "--out", trace_file(s), "-q"});
         return v;
     }
     std::vector<std::string> point_argv(std::size_t i) const {
@@ -235,6 +236,7 @@ Sweep make_sweep(const SweepArgs& a, const std::string& wd) {
     }
     const model::SimConfig cfg = model::config_from_params(mp);
     sw.format = cfg.format.name();
+    sw.triangle_select = cfg.icc.decoder.select == model::TriangleSelect::any ? "any" : "both";
     sw.trace_sets = sw.scene_sets;
     if (cfg.group_size) sw.trace_sets.push_back("groups.size=" + std::to_string(cfg.group_size));
     if (cfg.shadow_group_size) sw.trace_sets.push_back("groups.shadow_size=" + std::to_string(cfg.shadow_group_size));

@@ -22,12 +22,14 @@ void check_front_end(FrontEndUse use, const Scene& s, FrameOptions& fo) {
     const char* command = command_name(use);
     check_memory(command, frame_memory_up_front(s, fo));
     const Scene* scene = &s;
-    fo.before_shadow = [use, command, scene](const Frame& f, std::size_t lit, double hits) {
+    const bool pairless = fo.pairless;
+    fo.before_shadow = [use, command, scene, pairless](const Frame& f, std::size_t lit, const ShadowSample& sample) {
         FrameOptions o;
         o.record = use != FrontEndUse::render;
-        std::vector<MemoryItem> items = frame_memory_shadow(*scene, o, lit, hits);
+        o.pairless = pairless;
+        std::vector<MemoryItem> items = frame_memory_shadow(*scene, o, lit, sample);
         if (o.record) {
-            const TraceShape shape = trace_shape(*scene, f, lit, hits);
+            const TraceShape shape = trace_shape(*scene, f, lit, sample);
             items.push_back(trace_memory(shape, use == FrontEndUse::simulate));  // simulate moves the frame into it
             if (use == FrontEndUse::trace_file) items.push_back(trace_file_memory(shape));
         }

@@ -22,6 +22,8 @@ const std::vector<std::pair<const char*, const char*>>& columns() {
         {"sphere_fifo_depth", "/fifo_depth/sphere"},
         {"planeid_fifo_depth", "/fifo_depth/planeid"},
         {"format", "/format"},
+        {"triangle_select", "/triangle_select"},
+        {"rdf_empty_cycles", "/rdf_empty_cycles"},
         {"total_cycles", "/total_cycles"},
         {"time_ms", "/time_ms"},
         {"passes", "/passes"},
@@ -31,6 +33,7 @@ const std::vector<std::pair<const char*, const char*>>& columns() {
         {"triangles", "/triangles"},
         {"sphere_hits", "/workload/sphere_hits"},
         {"ray_triangle_tests", "/workload/ray_triangle_tests"},
+        {"pairless_spheres", "/workload/pairless_spheres"},
         {"sphere_link_records", "/links/sphere/records_sent"},
         {"sphere_link_stall_cycles", "/links/sphere/stall_cycles"},
         {"sphere_link_bytes", "/links/sphere/bytes"},
@@ -74,6 +77,9 @@ nlohmann::json sim_json(const SimReportInput& in) {
                        {"triangle", c.icc.triangle_fifo.depth},
                        {"planeid", c.icc.planeid_fifo.depth}};
     j["format"] = c.format.name();
+    const bool any = c.icc.decoder.select == model::TriangleSelect::any;
+    j["triangle_select"] = any ? "any" : "both";
+    j["rdf_empty_cycles"] = c.icc.fetcher.empty_cycles;
     j["clock_mhz"] = c.clock_mhz;
     j["total_cycles"] = r.total_cycles;
     if (r.lower_bound)
@@ -103,7 +109,8 @@ nlohmann::json sim_json(const SimReportInput& in) {
     GroupCounts wc = t.total_counts();
     j["workload"] = {{"plane_sphere_tests", wc.plane_tests},
                      {"sphere_hits", wc.sphere_hits},
-                     {"ray_triangle_tests", wc.rt_tests}};
+                     {"ray_triangle_tests", wc.rt_tests},
+                     {"pairless_spheres", any ? wc.pairless : 0}};
     auto link = [&](const model::StreamLink::Stats& s, std::uint32_t bytes) {
         return nlohmann::json{{"records_sent", s.records_sent},
                               {"stall_cycles", s.stall_cycles},
@@ -149,7 +156,8 @@ nlohmann::json sim_json(const SimReportInput& in) {
             {"first_tri_fifo", fifo_json(s.first_tri_fifo, c.icc.planeid_fifo.depth)},
             {"triangle_fifo", fifo_json(s.triangle_fifo, c.icc.triangle_fifo.depth)},
             {"psi", {{"spheres", s.psi.spheres}, {"plane_tests", s.psi.plane_tests}, {"busy_cycles", s.psi.busy_cycles}}},
-            {"decoder", {{"decided", s.decoder.decided}, {"sphere_hits", s.decoder.sphere_hits}}},
+            {"decoder", {{"decided", s.decoder.decided}, {"sphere_hits", s.decoder.sphere_hits}, {"pairless", s.decoder.pairless}}},
+            {"ray_data_fetcher", {{"triangles", s.ray_data_fetcher.triangles}, {"empty_triangles", s.ray_data_fetcher.empty_triangles}}},
             {"triangle_selector", {{"selected", s.triangle_selector.selected}, {"discarded", s.triangle_selector.discarded}}},
             {"rti", {{"tests", s.rti.tests}, {"hits", s.rti.hits}}},
             {"output_link", {{"records", s.output.records}, {"bytes", s.output.bytes}}},

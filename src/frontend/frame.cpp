@@ -70,7 +70,8 @@ Frame render_frame(const Scene& scene, const FrameOptions& opt) {
     f.primary = primary_groups(scene);
     f.primary_results.resize(f.primary.size());
     parallel_for(f.primary.size(), threads,
-                 [&](std::size_t i) { tracer.trace(f.primary[i], f.primary_results[i], opt.record, opt.per_ray); });
+                 [&](std::size_t i) { tracer.trace(f.primary[i], f.primary_results[i], opt.record, opt.per_ray, opt.pairless);
+                 });
     f.pixel_ray.resize(npix);
     f.pixel_hit.assign(npix, Hit{});
     f.work_rt.assign(npix, 0);
@@ -79,6 +80,7 @@ Frame render_frame(const Scene& scene, const FrameOptions& opt) {
         const RayGroup& g = f.primary[i];
         const GroupResult& res = f.primary_results[i];
         f.primary_counts += res.counts;
+        f.primary_pairless_runs += res.pairless.size();
         for (std::uint32_t v = 0; v < g.n; ++v) {
             for (std::uint32_t h = 0; h < g.n; ++h) {
                 if (!g.ray_valid(h, v)) continue;
@@ -112,21 +114,25 @@ Frame render_frame(const Scene& scene, const FrameOptions& opt) {
     }
     f.shadow_group_count = lit_pixels.size();
     if (opt.before_shadow) {
-        double sample_hits = 0;
+        ShadowSample sample;
         if (opt.record && !lit_pixels.empty()) {
             const std::size_t k = std::min<std::size_t>(32, std::max<std::size_t>(1, lit_pixels.size() / 100));
-            std::uint64_t hits = 0;
+            std::uint64_t hits = 0, runs = 0, pairless = 0;
             for (std::size_t j = 0; j < k; ++j) {
                 const std::size_t px = lit_pixels[j * lit_pixels.size() / k];
                 const int x = int(px % std::size_t(scene.width)), y = int(px / std::size_t(scene.width));
                 GroupResult res;
                 tracer.trace(shadow_group(scene, shadow_origin(scene, f.spheres, f.pixel_ray[px], f.pixel_hit[px]), x, y),
-                             res, false, false);
+                             res, opt.pairless, false, opt.pairless);
                 hits += res.counts.sphere_hits;
+                runs += res.pairless.size();
+                pairless += res.counts.pairless;
             }
-            sample_hits = double(hits) / double(k);
+            sample.sphere_hits = double(hits) / double(k);
+            sample.pairless_runs = double(runs) / double(k);
+            sample.pairless_spheres = double(pairless) / double(k);
         }
-        opt.before_shadow(f, lit_pixels.size(), sample_hits);
+        opt.before_shadow(f, lit_pixels.size(), sample);
     }
     std::vector<RayGroup> shadow(lit_pixels.size());
     std::vector<GroupResult> shadow_res(lit_pixels.size());
@@ -138,7 +144,7 @@ Frame render_frame(const Scene& scene, const FrameOptions& opt) {
         const int x = int(px % std::size_t(scene.width)), y = int(px / std::size_t(scene.width));
         RayGroup g = shadow_group(scene, shadow_origin(scene, f.spheres, f.pixel_ray[px], f.pixel_hit[px]), x, y);
         GroupResult res;
-        tracer.trace(g, res, opt.record, false);
+        tracer.trace(g, res, opt.record, false, opt.pairless);
         counts[i] = res.counts;
         // shading terms
         const Ray& pr = f.pixel_ray[px];

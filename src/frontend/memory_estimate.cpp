@@ -31,7 +31,7 @@ double trace_group_bytes(std::uint32_t n, bool directions) {
 }
 
 // A group in the file (docs/TRACE.md), without its sphere-hit records.
-double file_group_bytes(std::uint32_t n) { return 1 + 4 + 8 + 12 + 4 + 16 + 2.0 * n * 16 + double(n) * n * (12 + 12) + 24 + 8; }
+double file_group_bytes(std::uint32_t n) { return 1 + 4 + 8 + 12 + 4 + 16 + 2.0 * n * 16 + double(n) * n * (12 + 12) + 32 + 8; }
 double file_hit_bytes(std::uint32_t n) { return 4 + 2.0 * ((n + 7) / 8); }
 
 }  // namespace
@@ -63,7 +63,7 @@ std::vector<MemoryItem> frame_memory_up_front(const Scene& s, const FrameOptions
 }
 
 std::vector<MemoryItem> frame_memory_shadow(const Scene& s, const FrameOptions& o, std::uint64_t lit,
-                                            double shadow_hits_per_group) {
+                                            const ShadowSample& per_group) {
     const std::uint64_t npix = std::uint64_t(s.width) * std::uint64_t(s.height);
     std::vector<MemoryItem> items;
     // The shadow phase's arrays, one slot per lit pixel, and the shading term.
@@ -73,12 +73,13 @@ std::vector<MemoryItem> frame_memory_shadow(const Scene& s, const FrameOptions& 
         const std::uint32_t ns = std::uint32_t(s.shadow_group_size);
         items.push_back({"shadow ray groups recorded (" + count(lit) + ")",
                          double(lit) * (recorded_group_bytes(ns) - sizeof(RayGroup) - sizeof(GroupResult) +
-                                        shadow_hits_per_group * sizeof(SphereHitRec))});  // exact-size lists
+                                        per_group.sphere_hits * sizeof(SphereHitRec) +  // exact-size lists
+                                        (o.pairless ? per_group.pairless_runs * sizeof(SphereRun) : 0.0))});
     }
     return items;
 }
 
-TraceShape trace_shape(const Scene& s, const Frame& f, std::uint64_t lit, double shadow_hits_per_group) {
+TraceShape trace_shape(const Scene& s, const Frame& f, std::uint64_t lit, const ShadowSample& per_group) {
     TraceShape t;
     t.spheres = f.spheres.sphere_count();
     t.triangles = f.spheres.triangle_count();
@@ -87,7 +88,9 @@ TraceShape trace_shape(const Scene& s, const Frame& f, std::uint64_t lit, double
     t.group_size = std::uint32_t(s.group_size);
     t.shadow_group_size = std::uint32_t(s.shadow_group_size);
     t.primary_sphere_hits = double(f.primary_counts.sphere_hits);
-    t.shadow_sphere_hits = double(lit) * shadow_hits_per_group;
+    t.shadow_sphere_hits = double(lit) * per_group.sphere_hits;
+    t.pairless_runs = double(f.primary_pairless_runs) + double(lit) * per_group.pairless_runs;
+    t.pairless_spheres = double(f.primary_counts.pairless) + double(lit) * per_group.pairless_spheres;
     t.directions = false;  // make_trace keeps the ray grid
     return t;
 }
@@ -102,8 +105,11 @@ TraceShape trace_shape(const Trace& tr) {
     t.shadow_group_size = tr.shadow_group_size;
     t.directions = false;
     for (const auto& g : tr.groups) t.directions = t.directions || !g.dirs.empty();
-    for (std::size_t i = 0; i < tr.groups.size(); ++i)
+    for (std::size_t i = 0; i < tr.groups.size(); ++i) {
         (i < tr.primary_groups ? t.primary_sphere_hits : t.shadow_sphere_hits) += double(tr.groups[i].sphere_hits.size());
+        t.pairless_runs += double(tr.groups[i].pairless.size());
+        t.pairless_spheres += double(tr.groups[i].counts.pairless);
+    }
     return t;
 }
 
@@ -112,12 +118,13 @@ TraceShape trace_file_shape(const std::string& path) {
     const std::streamoff size = in.tellg();
     in.seekg(0);
     auto get = [&](auto& v) { return bool(in.read(reinterpret_cast<char*>(&v), sizeof v)); };
+    auto skip = [&](std::uint64_t n) { return n <= std::uint64_t(size) && bool(in.seekg(std::streamoff(n), std::ios::cur)); };
     auto skip_str = [&] {
         std::uint32_t n = 0;
-        return get(n) && n <= 4096 && bool(in.seekg(n, std::ios::cur));
+        return get(n) && n <= 4096 && skip(n);
     };
     char magic[8];
-    std::uint32_t version = 0, header = 0, dims[5] = {};
+    std::uint32_t version = 0, header = 0, dims[5] = {}, pairless = 0;
     std::uint64_t payload = 0, sum = 0, spheres = 0, tris = 0, groups = 0;
     std::uint32_t primary = 0;
     TraceShape t;
@@ -126,24 +133,37 @@ TraceShape trace_file_shape(const std::string& path) {
         return t;
     for (auto& d : dims)
         if (!get(d)) return t;
-    if (!get(spheres) || spheres > std::uint64_t(size) / kTraceSphereBytes ||
-        !in.seekg(std::streamoff(spheres * kTraceSphereBytes), std::ios::cur) ||
-        !get(tris) || tris > std::uint64_t(size) / kTraceTriangleBytes ||
-        !in.seekg(std::streamoff(tris * kTraceTriangleBytes), std::ios::cur) ||
-        !get(primary) || !get(groups) || groups < primary || groups > std::uint64_t(size))
+    if (!get(pairless) || !get(spheres) || spheres > std::uint64_t(size) / kTraceSphereBytes ||
+        !skip(spheres * kTraceSphereBytes) || !get(tris) || tris > std::uint64_t(size) / kTraceTriangleBytes ||
+        !skip(tris * kTraceTriangleBytes) || !get(primary) || !get(groups) || groups < primary ||
+        groups > std::uint64_t(size))
         return t;
     const std::uint32_t n = dims[2], ns = dims[3];  // width, height, group size, shadow group size, K
     if (n < 1 || n > 64 || ns < 1 || ns > 64) return t;
-    t.spheres = spheres;
-    t.triangles = tris;
-    t.primary_groups = primary;
-    t.shadow_groups = groups - primary;
-    t.group_size = n;
-    t.shadow_group_size = ns;
-    const double rest = double(size) - double(in.tellg()) - double(primary) * file_group_bytes(n) -
-                        double(groups - primary) * file_group_bytes(ns);
-    if (rest > 0) t.shadow_sphere_hits = rest / file_hit_bytes(ns);  // (primary groups' share counted alike)
-    return t;
+    TraceShape g;
+    g.spheres = spheres;
+    g.triangles = tris;
+    g.primary_groups = primary;
+    g.shadow_groups = groups - primary;
+    g.group_size = n;
+    g.shadow_group_size = ns;
+    // Each group's counts (docs/TRACE.md), skipping its records.
+    for (std::uint64_t i = 0; i < groups; ++i) {
+        std::uint8_t kind = 0;
+        std::uint32_t gn = 0;
+        std::uint64_t counts[4] = {}, nh = 0, nr = 0, rb = 0;
+        if (!get(kind) || !get(gn) || gn < 1 || gn > 64 || !skip(4 + 4 + 12 + 4 + 16 + 32 * std::uint64_t(gn) + 12 * std::uint64_t(gn) * gn))
+            return t;
+        for (auto& c : counts)
+            if (!get(c)) return t;
+        if (!get(nh) || nh > std::uint64_t(size) || !skip(nh * (4 + 2 * ((gn + 7) / 8)))) return t;
+        if (pairless && (!get(nr) || !get(rb) || !skip(rb))) return t;
+        if (!skip(12 * std::uint64_t(gn) * gn)) return t;
+        (i < primary ? g.primary_sphere_hits : g.shadow_sphere_hits) += double(nh);
+        g.pairless_runs += double(nr);
+        g.pairless_spheres += double(counts[3]);
+    }
+    return g;
 }
 
 MemoryItem trace_memory(const TraceShape& t, bool moved_from_frame) {
@@ -158,16 +178,19 @@ MemoryItem trace_memory(const TraceShape& t, bool moved_from_frame) {
     }
     const double b = geometry + double(t.primary_groups) * trace_group_bytes(t.group_size, t.directions) +
                      double(t.shadow_groups) * trace_group_bytes(t.shadow_group_size, t.directions) +
-                     (t.primary_sphere_hits + t.shadow_sphere_hits) * sizeof(SphereHitRec);
+                     (t.primary_sphere_hits + t.shadow_sphere_hits) * sizeof(SphereHitRec) +
+                     t.pairless_runs * sizeof(SphereRun);
     return {"trace (" + count(t.groups()) + " ray groups)", b};
 }
 
 MemoryItem trace_file_memory(const TraceShape& t) {
+    // (pair-less runs: two varints of one or two bytes each, and 16 bytes of counts per group)
     const double b = 64 + double(t.spheres) * kTraceSphereBytes + double(t.triangles) * kTraceTriangleBytes +
                      double(t.primary_groups) * file_group_bytes(t.group_size) +
                      double(t.shadow_groups) * file_group_bytes(t.shadow_group_size) +
                      t.primary_sphere_hits * file_hit_bytes(t.group_size) +
-                     t.shadow_sphere_hits * file_hit_bytes(t.shadow_group_size);
+                     t.shadow_sphere_hits * file_hit_bytes(t.shadow_group_size) +
+                     (t.pairless_runs > 0 ? 2.5 * t.pairless_runs + 16.0 * double(t.groups()) : 0.0);
     return {"trace file buffer", b};
 }
 

@@ -45,6 +45,13 @@ struct Writer {
         size += s.size();
         if (!count_only) out += s;
     }
+    void put_varint(std::uint32_t v) {  // LEB128: 7 bits a byte, low bits first
+        do {
+            const std::uint8_t b = std::uint8_t(v & 0x7f) | std::uint8_t(v >= 0x80 ? 0x80 : 0);
+            put(b);
+            v >>= 7;
+        } while (v);
+    }
     void put_mask(std::uint64_t m, std::uint32_t bytes) {
         size += bytes;
         if (!count_only)
@@ -78,6 +85,15 @@ struct Reader {
         pos += n;
         return s;
     }
+    std::uint32_t get_varint() {
+        std::uint64_t v = 0;
+        for (int shift = 0;; shift += 7) {
+            const auto b = get<std::uint8_t>();
+            v |= std::uint64_t(b & 0x7f) << shift;
+            if (v > 0xffffffffull || (shift == 28 && (b & 0x80))) throw fail("run length beyond 32 bits");
+            if (!(b & 0x80)) return std::uint32_t(v);
+        }
+    }
     std::uint64_t get_mask(std::uint32_t bytes) {
         need(bytes);
         std::uint64_t m = 0;
@@ -107,7 +123,7 @@ namespace {
 // From a non-const frame, each group's records and hits are moved out and
 // the group's memory freed as it goes.
 template <class FrameRef>
-Trace make_trace_impl(const Scene& scene, FrameRef& f, const NumFormat& format) {
+Trace make_trace_impl(const Scene& scene, FrameRef& f, const NumFormat& format, bool pairless) {
     Trace t;
     t.scene_name = scene.name;
     t.format = format;
@@ -121,6 +137,7 @@ Trace make_trace_impl(const Scene& scene, FrameRef& f, const NumFormat& format) 
     t.tri_count = f.spheres.tri_count;
     t.triangles = f.spheres.triangles;
     t.tri_mesh_index = f.spheres.tri_mesh_index;
+    t.pairless = pairless;
     t.primary_groups = std::uint32_t(f.primary.size());
     t.groups.reserve(f.primary.size() + f.shadow.size());
     auto add = [&](auto& g, auto& r) {
@@ -138,11 +155,14 @@ Trace make_trace_impl(const Scene& scene, FrameRef& f, const NumFormat& format) 
         tg.du = g.du;
         tg.dv = g.dv;
         tg.counts = r.counts;
+        if (!pairless) tg.counts.pairless = 0;  // a trace for the row-and-column reading only
         if constexpr (std::is_const_v<std::remove_reference_t<decltype(r)>>) {
             tg.sphere_hits = r.sphere_list;
+            if (pairless) tg.pairless = r.pairless;
             tg.hits = r.hits;
         } else {
             tg.sphere_hits = std::move(r.sphere_list);
+            if (pairless) tg.pairless = std::move(r.pairless);
             tg.hits = std::move(r.hits);
             r = GroupResult{};
             g.planes = std::vector<Plane>{};
@@ -156,12 +176,12 @@ Trace make_trace_impl(const Scene& scene, FrameRef& f, const NumFormat& format) 
 
 }  // namespace
 
-Trace make_trace(const Scene& scene, const Frame& f, const NumFormat& format) {
-    return make_trace_impl(scene, f, format);
+Trace make_trace(const Scene& scene, const Frame& f, const NumFormat& format, bool pairless) {
+    return make_trace_impl(scene, f, format, pairless);
 }
 
-Trace make_trace(const Scene& scene, Frame&& f, const NumFormat& format) {
-    Trace t = make_trace_impl(scene, f, format);
+Trace make_trace(const Scene& scene, Frame&& f, const NumFormat& format, bool pairless) {
+    Trace t = make_trace_impl(scene, f, format, pairless);
     f.primary_results = {};
     f.shadow_results = {};
     f.shadow = {};
@@ -175,6 +195,7 @@ void write_payload(Writer& w, const Trace& t) {
     w.put_str(t.format.name());
     w.put(t.width); w.put(t.height);
     w.put(t.group_size); w.put(t.shadow_group_size); w.put(t.tris_per_sphere);
+    w.put(std::uint32_t(t.pairless ? 1 : 0));
     w.put(std::uint64_t(t.spheres.size()));
     for (std::size_t i = 0; i < t.spheres.size(); ++i) {
         w.put_vec(t.spheres[i].c);
@@ -202,9 +223,26 @@ void write_payload(Writer& w, const Trace& t) {
         for (std::uint32_t v = 0; v < g.n; ++v)
             for (std::uint32_t h = 0; h < g.n; ++h) w.put_vec(g.dir(h, v));
         w.put(g.counts.plane_tests); w.put(g.counts.sphere_hits); w.put(g.counts.rt_tests);
+        w.put(g.counts.pairless);
         w.put(std::uint64_t(g.sphere_hits.size()));
         const std::uint32_t mb = mask_bytes(g.n);
         for (const auto& s : g.sphere_hits) { w.put(s.sphere); w.put_mask(s.rows, mb); w.put_mask(s.cols, mb); }
+        if (t.pairless) {
+            // Runs: the gap before each (from sphere 0, then from one past the
+            // previous run's end) and its length - 1, as LEB128 varints,
+            // after the run count and their byte count.
+            w.put(std::uint64_t(g.pairless.size()));
+            Writer runs;
+            std::uint32_t next = 0;
+            for (const SphereRun& r : g.pairless) {
+                runs.put_varint(r.first - next);
+                runs.put_varint(r.count - 1);
+                next = r.end() + 1;
+            }
+            w.put(std::uint64_t(runs.out.size()));
+            w.size += runs.out.size();
+            if (!w.count_only) w.out += runs.out;
+        }
         for (const auto& h : g.hits) { w.put(h.t); w.put(h.tri); }
     }
 }
@@ -260,6 +298,9 @@ Trace parse_trace(const std::string& bytes, const std::string& name) {
     t.width = r.get<std::uint32_t>(); t.height = r.get<std::uint32_t>();
     t.group_size = r.get<std::uint32_t>(); t.shadow_group_size = r.get<std::uint32_t>();
     t.tris_per_sphere = r.get<std::uint32_t>();
+    const auto pairless = r.get<std::uint32_t>();
+    if (pairless > 1) throw r.fail("bad pair-less flag " + std::to_string(pairless));
+    t.pairless = pairless == 1;
     auto ns = r.get_count(kTraceSphereBytes);
     t.spheres.resize(ns); t.first_tri.resize(ns); t.tri_count.resize(ns);
     for (std::size_t i = 0; i < ns; ++i) {
@@ -310,6 +351,7 @@ Trace parse_trace(const std::string& bytes, const std::string& name) {
         g.counts.plane_tests = r.get<std::uint64_t>();
         g.counts.sphere_hits = r.get<std::uint64_t>();
         g.counts.rt_tests = r.get<std::uint64_t>();
+        g.counts.pairless = r.get<std::uint64_t>();
         const std::uint32_t mb = mask_bytes(g.n);
         auto nh = r.get_count(4 + 2 * mb);
         g.sphere_hits.resize(nh);
@@ -325,6 +367,31 @@ Trace parse_trace(const std::string& bytes, const std::string& name) {
             rt += std::uint64_t(__builtin_popcountll(s.rows)) * std::uint64_t(__builtin_popcountll(s.cols)) * t.tri_count[s.sphere];
         }
         if (nh != g.counts.sphere_hits || rt != g.counts.rt_tests) throw r.fail("group counts disagree with its sphere hits");
+        if (t.pairless) {
+            // Runs ascending, apart, inside Sphere Memory and disjoint from the sphere hits.
+            auto nr = r.get_count(2);
+            const auto run_bytes = r.get<std::uint64_t>();
+            if (run_bytes < 2 * nr || run_bytes > 10 * nr) throw r.fail("pair-less runs in " + std::to_string(run_bytes) + " bytes");
+            const std::size_t runs_end = r.pos + run_bytes;
+            g.pairless.resize(nr);
+            std::uint64_t next = 0, spheres = 0;
+            std::size_t hi = 0;
+            for (auto& run : g.pairless) {
+                const std::uint64_t first = next + r.get_varint();
+                const std::uint64_t count = std::uint64_t(r.get_varint()) + 1;
+                if (first + count > ns) throw r.fail("pair-less spheres out of range");
+                while (hi < g.sphere_hits.size() && g.sphere_hits[hi].sphere < first) ++hi;
+                if (hi < g.sphere_hits.size() && g.sphere_hits[hi].sphere < first + count)
+                    throw r.fail("sphere " + std::to_string(g.sphere_hits[hi].sphere) + " both hit and pair-less");
+                run = {std::uint32_t(first), std::uint32_t(count)};
+                spheres += count;
+                next = first + count + 1;
+            }
+            if (r.pos != runs_end) throw r.fail("pair-less runs do not fill their " + std::to_string(run_bytes) + " bytes");
+            if (spheres != g.counts.pairless) throw r.fail("group counts disagree with its pair-less spheres");
+        } else if (g.counts.pairless) {
+            throw r.fail("pair-less count without pair-less spheres");
+        }
         r.need(std::size_t(g.n) * g.n * 12);
         g.hits.resize(std::size_t(g.n) * g.n);
         for (auto& h : g.hits) {

@@ -9,7 +9,7 @@ namespace raplas {
 
 struct Tracer::Impl {
     virtual ~Impl() = default;
-    virtual void trace(const RayGroup& g, GroupResult& out, bool record, bool per_ray) const = 0;
+    virtual void trace(const RayGroup& g, GroupResult& out, bool record, bool per_ray, bool pairless) const = 0;
     virtual Hit brute_force(const Ray& r) const = 0;
 };
 
@@ -47,7 +47,7 @@ struct ImplT final : Tracer::Impl {
         for (const auto& t : set.triangles) tris.push_back(load(a, t));
     }
 
-    void trace(const RayGroup& g, GroupResult& out, bool record, bool per_ray) const override {
+    void trace(const RayGroup& g, GroupResult& out, bool record, bool per_ray, bool pairless) const override {
         const std::uint32_t n = g.n;
         std::vector<PlaneA<A>> planes;
         planes.reserve(g.planes.size());
@@ -58,6 +58,7 @@ struct ImplT final : Tracer::Impl {
         out.hits.assign(std::size_t(n) * n, Hit{});
         out.counts = GroupCounts{};
         out.sphere_list.clear();
+        out.pairless.clear();
         if (per_ray) {
             out.ray_rt_tests.assign(std::size_t(n) * n, 0);
             out.ray_sphere_hits.assign(std::size_t(n) * n, 0);
@@ -70,13 +71,20 @@ struct ImplT final : Tracer::Impl {
         // these lists, and push_back growth would leave up to half of each
         // unused (docs/MEMORY.md).
         thread_local std::vector<SphereHitRec> scratch;
+        thread_local std::vector<SphereRun> runs_scratch;
         std::vector<SphereHitRec>& list = scratch;
         list.clear();
+        std::vector<SphereRun>* runs = pairless ? &runs_scratch : nullptr;
         if (tree.empty())
-            group_sphere_hits(a, planes.data(), n, g.row_valid, g.col_valid, spheres, list);
+            group_sphere_hits(a, planes.data(), n, g.row_valid, g.col_valid, spheres, list, runs);
         else
-            group_sphere_hits_culled(a, g.planes.data(), planes.data(), n, g.row_valid, g.col_valid, spheres, tree, list);
+            group_sphere_hits_culled(a, g.planes.data(), planes.data(), n, g.row_valid, g.col_valid, spheres, tree, list,
+                                     runs);
         if (record) out.sphere_list = std::vector<SphereHitRec>(list.begin(), list.end());
+        if (runs) {
+            for (const SphereRun& r : *runs) out.counts.pairless += r.count;
+            if (record) out.pairless = std::vector<SphereRun>(runs->begin(), runs->end());
+        }
         out.counts.sphere_hits = list.size();
         if constexpr (kNative) {
             if (!per_ray && rti_of(a) == RtiTest::division_free) {
@@ -184,8 +192,8 @@ Tracer::Tracer(const SphereSet& spheres, const NumFormat& format, bool cull) : s
 
 Tracer::~Tracer() = default;
 
-void Tracer::trace(const RayGroup& g, GroupResult& out, bool record, bool per_ray) const {
-    impl_->trace(g, out, record, per_ray);
+void Tracer::trace(const RayGroup& g, GroupResult& out, bool record, bool per_ray, bool pairless) const {
+    impl_->trace(g, out, record, per_ray, pairless);
 }
 
 Hit Tracer::brute_force(const Ray& r) const { return impl_->brute_force(r); }

@@ -48,4 +48,20 @@ inline Trace hand_trace(std::uint32_t spheres, std::uint32_t n, std::uint64_t ro
     return t;
 }
 
+// Marks the spheres in `pairless` of every group as cut by row planes only
+// or column planes only (a trace for icc.triangle_select = any). They must
+// not be hit spheres of the group.
+inline void add_pairless(Trace& t, const std::vector<bool>& pairless) {
+    t.pairless = true;
+    for (TraceGroup& g : t.groups) {
+        g.pairless.clear();
+        g.counts.pairless = 0;
+        for (std::uint32_t s = 0; s < pairless.size(); ++s) {
+            if (!pairless[s]) continue;
+            add_to_runs(g.pairless, s);
+            ++g.counts.pairless;
+        }
+    }
+}
+
 }  // namespace raplas::test

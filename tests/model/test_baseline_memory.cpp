@@ -67,6 +67,28 @@ TEST(GroupWork, CountsNeededTrianglesAndRayTriangleTests) {
     EXPECT_TRUE(w[1].primary);
 }
 
+TEST(GroupWork, TheAnyReadingAddsThePairlessSpheresTriangles) {
+    // Every third sphere hit, every third (offset 1) pair-less, 4 triangles
+    // each: under `any` a group needs 20 spheres' triangles, 10 of them with
+    // no pair; its RTI time adds rdf_empty_cycles per pair-less triangle.
+    Trace t = test::hand_trace(30, 16, 0b11, 0b111, every_third(30), 2);
+    std::vector<bool> pl(30);
+    for (std::uint32_t s = 1; s < 30; s += 3) pl[s] = true;
+    test::add_pairless(t, pl);
+    widen_spheres(t, 4);
+    const std::vector<GroupWork> both = group_work(t), any = group_work(t, TriangleSelect::any);
+    EXPECT_EQ(both[0].triangles_needed, 40u);
+    EXPECT_EQ(both[0].pairless_triangles, 0u);
+    EXPECT_EQ(any[0].triangles_needed, 80u);
+    EXPECT_EQ(any[0].pairless_triangles, 40u);
+    EXPECT_EQ(any[0].rt_tests, both[0].rt_tests);
+    SimConfig c = config(MemorySystem::shared, 1);
+    c.icc.rti.pipes = 4;
+    c.icc.fetcher.empty_cycles = 3;
+    EXPECT_EQ(group_rti_cycles(both[0], c), 240u / 4);
+    EXPECT_EQ(group_rti_cycles(any[0], c), 240u / 4 + 40u * 3);
+}
+
 TEST(BaselineShared, IdealPesTakeOneCyclePerNeededTriangleWhateverTheIccCount) {
     // 5 groups, each needing 100 of 300 triangles: 500 fetches through one port.
     const std::uint32_t S = 300;

@@ -13,11 +13,13 @@ namespace {
 class FixedUnit : public GroupUnit {
 public:
     std::vector<SphereHitRec> hits;
+    std::vector<SphereRun> runs;
     FixedUnit() {
         for (std::uint32_t s = 0; s < 100; ++s) hits.push_back({s, 1, 1});
     }
     void load(const TraceGroup&) override {}
     const std::vector<SphereHitRec>& sphere_hits() const override { return hits; }
+    const std::vector<SphereRun>& pairless() const override { return runs; }
     bool rti(std::uint32_t ray, std::uint32_t, double& t) override {
         t = ray + 1.0;
         return true;
@@ -116,7 +118,7 @@ TEST(RayTriangleIntersector, FirstResultExactlyTwentyFiveCyclesAfterItsInput) {
 }
 
 TEST(RayDataFetcher, IssuesOnePairPerCycleForRowsTimesColumns) {
-    RayDataFetcher rdf("rdf_a");
+    RayDataFetcher rdf("rdf_a", {1});
     RayTriangleIntersector rti("rti_b", {1, 25});
     Fifo<TriWork> in("tri_fifo_a", {4});
     rdf.start_group(4);
@@ -134,6 +136,72 @@ TEST(RayDataFetcher, IssuesOnePairPerCycleForRowsTimesColumns) {
     EXPECT_EQ(rti.stats().busy_cycles, 5u);
     EXPECT_EQ(rdf.stats().triangles, 2u);
     EXPECT_TRUE(rdf.idle());
+}
+
+TEST(RayDataFetcher, ATriangleWithNoPairHoldsItForItsEmptyCycles) {
+    // Triangles: 2 pairs, no pair, 1 pair. With e = 3 the empty one is popped
+    // in cycle 2 and holds the Fetcher through cycle 4: the last pair enters
+    // in cycle 5. With e = 0 it is dropped in the cycle it is reached (2),
+    // and the next triangle issues in that same cycle.
+    for (std::uint32_t e : {0u, 1u, 3u}) {
+        RayDataFetcher rdf(("rdf_e" + std::to_string(e)).c_str(), {e});
+        RayTriangleIntersector rti(("rti_e" + std::to_string(e)).c_str(), {1, 25});
+        Fifo<TriWork> in(("tri_fifo_e" + std::to_string(e)).c_str(), {4});
+        rdf.start_group(4);
+        rti.start_group();
+        in.push({1, 0b1, 0b11});  // 2 pairs
+        in.push({2, 0b1, 0});     // no pair
+        in.push({3, 0b10, 0b1});  // 1 pair
+        std::vector<int> issue_cycles;
+        int idle_from = -1;
+        for (int c = 0; c < 12; ++c) {
+            const auto before = rti.stats().tests;
+            rdf.tick(in, rti);
+            if (rti.stats().tests > before) issue_cycles.push_back(c);
+            if (idle_from < 0 && rdf.idle() && in.empty()) idle_from = c;
+            rti.advance();
+        }
+        const int last = 2 + int(std::max(e, 1u));  // e = 0: same cycle as the drop; else after e cycles
+        EXPECT_EQ(issue_cycles, (std::vector<int>{0, 1, e == 0 ? 2 : last})) << "e = " << e;
+        EXPECT_EQ(idle_from, e == 0 ? 2 : last) << "e = " << e;
+        EXPECT_EQ(rdf.stats().triangles, 3u);
+        EXPECT_EQ(rdf.stats().empty_triangles, 1u);
+        EXPECT_EQ(rti.stats().tests, 3u);
+    }
+}
+
+TEST(Decoder, QueuesPairlessSpheresOnlyUnderTheAnyReading) {
+    for (TriangleSelect sel : {TriangleSelect::both, TriangleSelect::any}) {
+        const std::string tag = sel == TriangleSelect::any ? "any" : "both";
+        PlaneSphereIntersector psi(("psi_" + tag).c_str(), {32, 1});
+        SphereFifo in(("sfifo_" + tag).c_str(), {8});
+        Decoder dec(("dec_" + tag).c_str(), {sel});
+        Fifo<PlaneIdEntry> pid(("pid_" + tag).c_str(), {8});
+        Fifo<FirstTriEntry> ftid(("ftid_" + tag).c_str(), {8});
+        SphereMemory mem(("smem_" + tag).c_str(), {});
+        std::vector<SphereRecord> recs(4);
+        for (std::uint32_t s = 0; s < 4; ++s) recs[s] = {Sphere{}, s, 1};
+        mem.load(recs);
+        const std::vector<SphereHitRec> hits{{1, 0b1, 0b1}};
+        const std::vector<SphereRun> pairless{{2, 2}};  // spheres 2 and 3
+        psi.start_group(32, &hits, &pairless);
+        dec.start_group();
+        for (std::uint32_t s = 0; s < 4; ++s) in.push(s);
+        for (int c = 0; c < 10; ++c) {
+            const bool hold = dec.tick(psi, pid, ftid, SphereInfo{&mem});
+            psi.tick(in, hold, false);
+        }
+        EXPECT_EQ(dec.decided(), 4u);
+        std::vector<std::uint32_t> queued;
+        for (; !ftid.empty(); ftid.pop()) queued.push_back(ftid.front().sphere);
+        if (sel == TriangleSelect::any) {
+            EXPECT_EQ(queued, (std::vector<std::uint32_t>{1, 2, 3}));
+            EXPECT_EQ(dec.stats().pairless, 2u);
+        } else {
+            EXPECT_EQ(queued, (std::vector<std::uint32_t>{1}));
+            EXPECT_EQ(dec.stats().pairless, 0u);
+        }
+    }
 }
 
 TEST(Fifo, RefusesWhenFullAndTracksOccupancy) {

@@ -92,6 +92,75 @@ TEST_P(TopClosedForm, PassesAddUp) {
     EXPECT_EQ(r.iccs[1].icc.idle_cycles, S + c.icc.psi.stages + 2u);
 }
 
+// Every sphere cut by row planes only (one simulation per process: one
+// configuration per test). Under `both` nothing is kept: S + L_psi + 2
+// cycles. Under `any` every triangle is kept: triangle i is selected in
+// cycle L_psi + 2 + i and the Fetcher, free from cycle L_psi + 3 on, spends e
+// cycles on each (the cycle it pops it included): the last is done in cycle
+// L_psi + 2 + e S, the pass ends one later. With e <= 1 the link is the
+// bottleneck: S + L_psi + 3.
+namespace {
+constexpr std::uint32_t kPairlessS = 300;
+Trace all_pairless() {
+    Trace t = test::hand_trace(kPairlessS, 16, 0, 0, std::vector<bool>(kPairlessS, false));
+    test::add_pairless(t, std::vector<bool>(kPairlessS, true));
+    return t;
+}
+void expect_all_pairless(std::uint32_t e) {
+    SimConfig c = base_config(1, 1000);
+    c.icc.decoder.select = TriangleSelect::any;
+    c.icc.fetcher.empty_cycles = e;
+    const std::uint64_t S = kPairlessS, L = c.icc.psi.stages;
+    SimResult r = simulate(all_pairless(), c);
+    EXPECT_EQ(r.total_cycles, L + 3 + std::uint64_t(std::max(e, 1u)) * S) << "e = " << e;
+    EXPECT_EQ(r.iccs[0].decoder.sphere_hits, S);
+    EXPECT_EQ(r.iccs[0].decoder.pairless, S);
+    EXPECT_EQ(r.iccs[0].triangle_selector.selected, S);
+    EXPECT_EQ(r.iccs[0].ray_data_fetcher.empty_triangles, S);
+    EXPECT_EQ(r.iccs[0].rti.tests, 0u);
+    EXPECT_EQ(r.iccs[0].rti.busy_cycles, 0u);
+}
+}  // namespace
+
+TEST_P(TopClosedForm, PairlessSpheresAreDiscardedUnderBoth) {
+    SimConfig c = base_config(1, 1000);
+    SimResult r = simulate(all_pairless(), c);
+    EXPECT_EQ(r.total_cycles, kPairlessS + c.icc.psi.stages + 2);
+    EXPECT_EQ(r.iccs[0].triangle_selector.selected, 0u);
+}
+TEST_P(TopClosedForm, PairlessSpheresUnderAnyFetcherDropsThemAtNoCost) { expect_all_pairless(0); }
+TEST_P(TopClosedForm, PairlessSpheresUnderAnyOneFetcherCycleEach) { expect_all_pairless(1); }
+TEST_P(TopClosedForm, PairlessSpheresUnderAnyThreeFetcherCyclesEach) { expect_all_pairless(3); }
+
+// Spheres alternate: a hit (m = 2 x 2 pairs) and a pair-less sphere (e = 2
+// Fetcher cycles). With a deep FIFO the Fetcher works without a gap from
+// cycle L_psi + 3 on, S/2 (ceil(4/R) + 2) cycles, the last a pair-less
+// triangle; the last pair leaves the RTI L_rti cycles after it entered.
+namespace {
+void expect_alternating(std::uint32_t rti_pipes) {
+    const std::uint32_t S = 200, e = 2;
+    std::vector<bool> hit(S), pairless(S);
+    for (std::uint32_t s = 0; s < S; ++s) (s % 2 ? pairless : hit)[s] = true;
+    Trace t = test::hand_trace(S, 16, 0b11, 0b11, hit);
+    test::add_pairless(t, pairless);
+    SimConfig c = base_config(1, 1000);
+    c.icc.decoder.select = TriangleSelect::any;
+    c.icc.fetcher.empty_cycles = e;
+    c.icc.rti.pipes = rti_pipes;
+    const std::uint64_t L = c.icc.psi.stages, Lr = c.icc.rti.stages, hit_cycles = (4 + rti_pipes - 1) / rti_pipes;
+    const std::uint64_t fetcher_end = L + 2 + (S / 2) * (hit_cycles + e);  // last cycle the Fetcher is busy
+    const std::uint64_t last_pair = fetcher_end - e;
+    SimResult r = simulate(t, c);
+    EXPECT_EQ(r.total_cycles, std::max(fetcher_end, last_pair + Lr) + 1);
+    EXPECT_EQ(r.iccs[0].rti.tests, (S / 2) * 4u);
+    EXPECT_EQ(r.iccs[0].rti.busy_cycles, (S / 2) * hit_cycles);
+    EXPECT_EQ(r.iccs[0].ray_data_fetcher.empty_triangles, S / 2);
+}
+}  // namespace
+
+TEST_P(TopClosedForm, PairlessTrianglesQueueBehindRayTriangleWorkOneRtiPipe) { expect_alternating(1); }
+TEST_P(TopClosedForm, PairlessTrianglesQueueBehindRayTriangleWorkTwoRtiPipes) { expect_alternating(2); }
+
 INSTANTIATE_TEST_SUITE_P(Modes, TopClosedForm, ::testing::Values(SimMode::cycle, SimMode::event),
                          [](const ::testing::TestParamInfo<SimMode>& i) {
                              return std::string(i.param == SimMode::cycle ? "cycle" : "event");
@@ -142,8 +211,9 @@ void expect_functional_match(const SimConfig& c, int image, int group) {
     FrameOptions fo;
     fo.record = true;
     fo.format = c.format;
+    fo.pairless = c.icc.decoder.select == TriangleSelect::any;
     Frame f = render_frame(scene, fo);
-    Trace t = make_trace(scene, f, c.format);
+    Trace t = make_trace(scene, f, c.format, fo.pairless);
     SimResult r = simulate(t, c);
     EXPECT_TRUE(r.functional_checked);
     EXPECT_GT(r.rays_checked, 0u);
@@ -171,6 +241,14 @@ TEST(TopFunctional, MatchesTheFrontEndInFloat64WithFewPsiPipes) {
     c.format = NumFormat::float64();
     c.icc.psi.pipes = 4;
     expect_functional_match(c, 16, 4);
+}
+
+TEST(TopFunctional, MatchesTheFrontEndUnderTheAnyPlaneReading) {
+    SimConfig c = base_config(3, 5);
+    c.functional = FunctionalMode::compute;
+    c.icc.decoder.select = TriangleSelect::any;
+    c.icc.rti.pipes = 2;
+    expect_functional_match(c, 24, 8);
 }
 
 TEST(TopFunctional, MatchesTheFrontEndInAnEmulatedFormat) {

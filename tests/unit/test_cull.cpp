@@ -63,7 +63,7 @@ std::vector<Plane> pencil(Rng& rng, Vec3d eye, std::uint32_t n, double spread) {
 template <class A>
 struct Checker {
     A a;
-    std::uint64_t groups = 0, records = 0, culled_groups = 0;
+    std::uint64_t groups = 0, records = 0, culled_groups = 0, pairless = 0;
 
     void run(const std::vector<Sphere>& spheres, const std::vector<Plane>& planes, std::uint32_t n,
              std::uint64_t row_valid, std::uint64_t col_valid, const std::string& what) {
@@ -77,6 +77,27 @@ struct Checker {
         group_sphere_hits_culled(a, planes.data(), pa.data(), n, row_valid, col_valid, soa, tree, culled);
         std::string why;
         EXPECT_TRUE(same(full, culled, why)) << what << ": " << why;
+        // With the pair-less spheres (icc.triangle_select = any): the same hit
+        // records, and the same runs as a sphere-by-sphere scalar evaluation.
+        std::vector<SphereHitRec> full_any, culled_any;
+        std::vector<SphereRun> full_runs, culled_runs, scalar_runs;
+        group_sphere_hits(a, pa.data(), n, row_valid, col_valid, soa, full_any, &full_runs);
+        group_sphere_hits_culled(a, planes.data(), pa.data(), n, row_valid, col_valid, soa, tree, culled_any,
+                                 &culled_runs);
+        for (std::uint32_t i = 0; i < soa.size(); ++i) {
+            const SphereA<A> sp{soa.cx[i], soa.cy[i], soa.cz[i], soa.r[i]};
+            std::uint64_t rm = 0, cm = 0;
+            for (std::uint32_t v = 0; v < n; ++v) rm |= std::uint64_t(plane_hits_sphere(a, pa[v], sp)) << v;
+            for (std::uint32_t h = 0; h < n; ++h) cm |= std::uint64_t(plane_hits_sphere(a, pa[n + h], sp)) << h;
+            rm &= row_valid;
+            cm &= col_valid;
+            if ((rm || cm) && !(rm && cm)) add_to_runs(scalar_runs, i);
+        }
+        EXPECT_TRUE(same(full, full_any, why)) << what << " (with pair-less spheres): " << why;
+        EXPECT_TRUE(same(full, culled_any, why)) << what << " (culled, with pair-less spheres): " << why;
+        EXPECT_EQ(full_runs, scalar_runs) << what << ": pair-less runs of the batched test";
+        EXPECT_EQ(culled_runs, scalar_runs) << what << ": pair-less runs of the culled test";
+        pairless += full_runs.size();
         ++groups;
         records += full.size();
         culled_groups += culling_applies(a, tree, planes.data(), 2 * n);
@@ -148,6 +169,7 @@ void all_cases(A a, const std::string& fmt, bool expect_culling = true) {
     random_sets(c, fmt);
     tangent_planes(c, fmt);
     EXPECT_GT(c.records, 1000u) << fmt << ": the planes hit spheres";
+    EXPECT_GT(c.pairless, 100u) << fmt << ": some spheres are cut by rows only or columns only";
     if (expect_culling) {
         EXPECT_GT(c.culled_groups, c.groups * 3 / 4) << fmt << ": the culling path was taken";
     }
@@ -217,16 +239,19 @@ TEST(SphereCulling, EverySharedSceneSameRecordsAndHits) {
             FrameOptions fo;
             fo.format = NumFormat::parse(fmt);
             fo.record = true;
+            fo.pairless = true;
             fo.threads = 2;
             const Frame f = render_frame(s, fo);
             const Tracer full(f.spheres, fo.format, false);
             std::size_t groups = 0, records = 0;
             auto check = [&](const RayGroup& g, const GroupResult& got, const char* kind, std::size_t i) {
                 GroupResult want;
-                full.trace(g, want, true, false);
+                full.trace(g, want, true, false, true);
                 std::string why;
                 ASSERT_TRUE(same(want.sphere_list, got.sphere_list, why))
                     << name << " " << fmt << " " << kind << " group " << i << ": " << why;
+                ASSERT_EQ(want.pairless, got.pairless) << name << " " << fmt << " " << kind << " group " << i;
+                ASSERT_EQ(want.counts.pairless, got.counts.pairless);
                 ASSERT_EQ(want.hits, got.hits) << name << " " << fmt << " " << kind << " group " << i;
                 ASSERT_EQ(want.counts.rt_tests, got.counts.rt_tests);
                 ++groups;

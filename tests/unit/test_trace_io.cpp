@@ -51,8 +51,9 @@ const Rendered& rendered() {
         fo.format = NumFormat::parse("fp1-8-15");
         fo.threads = 2;
         fo.record = true;
+        fo.pairless = true;  // a trace for both readings: every test here covers the pair-less runs too
         x.frame = render_frame(x.scene, fo);
-        x.trace = make_trace(x.scene, x.frame, fo.format);
+        x.trace = make_trace(x.scene, x.frame, fo.format, true);
         x.bytes = serialize_trace(x.trace);
         return x;
     }();
@@ -86,6 +87,7 @@ void expect_same_trace(const Trace& a, const Trace& b) {
             << "triangle " << i;
     }
     EXPECT_EQ(a.tri_mesh_index, b.tri_mesh_index);
+    EXPECT_EQ(a.pairless, b.pairless);
     EXPECT_EQ(a.primary_groups, b.primary_groups);
     ASSERT_EQ(a.groups.size(), b.groups.size());
     for (std::size_t gi = 0; gi < a.groups.size(); ++gi) {
@@ -112,6 +114,8 @@ void expect_same_trace(const Trace& a, const Trace& b) {
         ASSERT_EQ(g.counts.plane_tests, h.counts.plane_tests) << gi;
         ASSERT_EQ(g.counts.sphere_hits, h.counts.sphere_hits) << gi;
         ASSERT_EQ(g.counts.rt_tests, h.counts.rt_tests) << gi;
+        ASSERT_EQ(g.counts.pairless, h.counts.pairless) << gi;
+        ASSERT_EQ(g.pairless, h.pairless) << gi;
         ASSERT_EQ(g.hits.size(), h.hits.size()) << gi;
         for (std::size_t k = 0; k < g.hits.size(); ++k) {
             ASSERT_EQ(g.hits[k].tri, h.hits[k].tri) << gi;
@@ -194,6 +198,38 @@ TEST(TraceIo, MakeTraceReflectsTheFrame) {
     EXPECT_EQ(tc.plane_tests, total.plane_tests);
     EXPECT_EQ(tc.sphere_hits, total.sphere_hits);
     EXPECT_EQ(tc.rt_tests, total.rt_tests);
+    // the pair-less spheres: as many as counted, disjoint from the hits
+    EXPECT_TRUE(t.pairless);
+    EXPECT_EQ(tc.pairless, total.pairless);
+    EXPECT_GT(tc.pairless, 0u);
+    for (const TraceGroup& g : t.groups) {
+        std::uint64_t n = 0;
+        for (const SphereRun& run : g.pairless) {
+            n += run.count;
+            for (const SphereHitRec& h : g.sphere_hits) ASSERT_FALSE(h.sphere >= run.first && h.sphere < run.end());
+        }
+        ASSERT_EQ(n, g.counts.pairless);
+    }
+}
+
+TEST(TraceIo, ATraceForTheRowAndColumnReadingCarriesNoPairlessSpheres) {
+    // The same frame made into a `both` trace: no runs, a few bytes per group
+    // fewer, and otherwise the same groups.
+    const Rendered& r = rendered();
+    const Trace both = make_trace(r.scene, r.frame, r.trace.format, false);
+    EXPECT_FALSE(both.pairless);
+    const std::string bytes = serialize_trace(both);
+    const Trace back = parse_trace(bytes, "both.trace");
+    EXPECT_FALSE(back.pairless);
+    std::size_t runs = 0;
+    for (std::size_t i = 0; i < back.groups.size(); ++i) {
+        EXPECT_TRUE(back.groups[i].pairless.empty());
+        EXPECT_EQ(back.groups[i].counts.pairless, 0u);
+        EXPECT_EQ(back.groups[i].sphere_hits.size(), r.trace.groups[i].sphere_hits.size());
+        runs += r.trace.groups[i].pairless.size();
+    }
+    EXPECT_LT(bytes.size(), r.bytes.size());
+    EXPECT_GE(r.bytes.size() - bytes.size(), 2 * runs + 16 * back.groups.size());  // runs, run count and byte count
 }
 
 TEST(TraceIo, SerializeParseRoundTripIsExact) {
@@ -209,8 +245,9 @@ TEST(TraceIo, SerializeParseRoundTripIsExact) {
     fo.format = NumFormat::parse("fp1-8-15");
     fo.threads = 1;
     fo.record = true;
+    fo.pairless = true;
     Frame f1 = render_frame(r.scene, fo);
-    EXPECT_EQ(serialize_trace(make_trace(r.scene, f1, fo.format)), r.bytes);
+    EXPECT_TRUE(serialize_trace(make_trace(r.scene, f1, fo.format, true)) == r.bytes);
 }
 
 TEST(TraceIo, HitsReplayFromTheTraceAlone) {
@@ -292,6 +329,9 @@ TEST(TraceIo, InconsistentContentWithAValidChecksumIsRejected) {
     std::size_t with_hits = 0;
     while (with_hits < good.groups.size() && good.groups[with_hits].sphere_hits.empty()) ++with_hits;
     ASSERT_LT(with_hits, good.groups.size());
+    std::size_t with_pairless = 0;
+    while (with_pairless < good.groups.size() && good.groups[with_pairless].pairless.empty()) ++with_pairless;
+    ASSERT_LT(with_pairless, good.groups.size());
     struct Case {
         const char* what;
         std::function<void(Trace&)> edit;
@@ -308,6 +348,23 @@ TEST(TraceIo, InconsistentContentWithAValidChecksumIsRejected) {
         {"group kinds out of order", [](Trace& t) { t.primary_groups += 1; }},
         {"more primary groups than groups", [](Trace& t) { t.primary_groups = std::uint32_t(t.groups.size() + 1); }},
         {"bad format", [](Trace& t) { t.format.exp_bits = 1; }},
+        {"pair-less sphere that is also a hit",
+         [&](Trace& t) {
+             auto& g = t.groups[with_hits];
+             g.pairless = {SphereRun{g.sphere_hits[0].sphere, 1}};
+             g.counts.pairless = 1;
+         }},
+        {"pair-less spheres out of range",
+         [&](Trace& t) {
+             t.groups[0].pairless.push_back({std::uint32_t(t.spheres.size() + 5), 1});
+             t.groups[0].counts.pairless += 1;
+         }},
+        {"pair-less count disagrees", [&](Trace& t) { t.groups[with_pairless].counts.pairless += 1; }},
+        {"pair-less count without a list",
+         [&](Trace& t) {
+             t.pairless = false;
+             t.groups[with_pairless].counts.pairless = 3;
+         }},
     };
     for (const Case& c : cases) {
         Trace t = good;

@@ -146,16 +146,20 @@ inline bool culling_applies(const A& a, const SphereTree& tree, const Plane* pla
 // group_sphere_hits() with culling: the same records, in the same (sphere)
 // order, with the same masks. `planes` are the group's records (as loaded
 // into `planes_a`): rows [0, n), columns [n, 2n). Falls back to the full
-// test when culling_applies() is false.
+// test when culling_applies() is false. With `pairless` (the spheres cut by
+// row planes only or column planes only), a node is skipped only when every
+// row plane and every column plane misses it.
 template <class A>
 inline void group_sphere_hits_culled(const A& a, const Plane* planes, const PlaneA<A>* planes_a, std::uint32_t n,
                                      std::uint64_t row_valid, std::uint64_t col_valid, const SphereSoA<A>& s,
-                                     const SphereTree& tree, std::vector<SphereHitRec>& out) {
+                                     const SphereTree& tree, std::vector<SphereHitRec>& out,
+                                     std::vector<SphereRun>* pairless = nullptr) {
     if (!culling_applies(a, tree, planes, 2 * n)) {
-        group_sphere_hits(a, planes_a, n, row_valid, col_valid, s, out);
+        group_sphere_hits(a, planes_a, n, row_valid, col_valid, s, out, pairless);
         return;
     }
     out.clear();
+    if (pairless) pairless->clear();
     const ArithBounds b = arith_bounds(a);
     cull_detail::PlaneD pd[128];
     for (std::uint32_t p = 0; p < 2 * n; ++p) {
@@ -183,9 +187,9 @@ inline void group_sphere_hits_culled(const A& a, const Plane* planes, const Plan
         const Item it = stack[--top];
         const SphereTree::Node& nd = nodes[it.node];
         const std::uint64_t rows = narrow(it.rows, 0, nd);
-        if (!rows) continue;
+        if (!rows && !pairless) continue;
         const std::uint64_t cols = narrow(it.cols, n, nd);
-        if (!cols) continue;
+        if (!cols && (!pairless || !rows)) continue;
         if (nd.right) {
             stack[top++] = {nd.right, rows, cols};
             stack[top++] = {it.node + 1, rows, cols};
@@ -199,13 +203,14 @@ inline void group_sphere_hits_culled(const A& a, const Plane* planes, const Plan
                 const std::uint32_t p = static_cast<std::uint32_t>(__builtin_ctzll(m));
                 rm |= std::uint64_t(plane_hits_sphere(a, planes_a[p], sp)) << p;
             }
-            if (!rm) continue;
+            if (!rm && !pairless) continue;
             std::uint64_t cm = 0;
             for (std::uint64_t m = cols; m; m &= m - 1) {
                 const std::uint32_t p = static_cast<std::uint32_t>(__builtin_ctzll(m));
                 cm |= std::uint64_t(plane_hits_sphere(a, planes_a[n + p], sp)) << p;
             }
-            if (cm) out.push_back({i, rm, cm});
+            if (rm && cm) out.push_back({i, rm, cm});
+            else if (pairless && (rm | cm)) add_to_runs(*pairless, i);
         }
     }
 }

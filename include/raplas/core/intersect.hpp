@@ -321,35 +321,61 @@ struct SphereHitRec {
 #pragma pack(pop)
 static_assert(sizeof(SphereHitRec) == 20);
 
+// A run of consecutive Sphere Memory indices [first, first + count).
+struct SphereRun {
+    std::uint32_t first = 0, count = 0;
+    std::uint32_t end() const { return first + count; }
+    bool operator==(const SphereRun& o) const { return first == o.first && count == o.count; }
+};
+
+// Appends sphere i (ascending) to a list of runs.
+inline void add_to_runs(std::vector<SphereRun>& runs, std::uint32_t i) {
+    if (!runs.empty() && runs.back().end() == i) ++runs.back().count;
+    else runs.push_back({i, 1});
+}
+
 // Steps 5-6 decision for one ray group: every sphere whose row mask and
 // column mask are both non-empty, in sphere order. planes[0, n) are the row
-// planes, planes[n, 2n) the column planes.
+// planes, planes[n, 2n) the column planes. With `pairless`, also the spheres
+// cut by valid row planes only or valid column planes only (they give no
+// (ray, triangle) pair), as runs in sphere order.
 template <class A>
 inline void group_sphere_hits(const A& a, const PlaneA<A>* planes, std::uint32_t n, std::uint64_t row_valid,
-                              std::uint64_t col_valid, const SphereSoA<A>& s, std::vector<SphereHitRec>& out) {
+                              std::uint64_t col_valid, const SphereSoA<A>& s, std::vector<SphereHitRec>& out,
+                              std::vector<SphereRun>* pairless = nullptr) {
     constexpr std::size_t kChunk = 512;
     out.clear();
-    auto run = [&](auto* rows) {  // 32-bit masks vectorise twice as wide when n <= 32
+    if (pairless) pairless->clear();
+    auto run = [&](auto* rows, auto* cols) {  // 32-bit masks vectorise twice as wide when n <= 32
         for (std::size_t first = 0; first < s.size(); first += kChunk) {
             const std::size_t count = std::min(kChunk, s.size() - first);
             plane_masks(a, planes, n, s, first, count, rows);
+            if (pairless) plane_masks(a, planes + n, n, s, first, count, cols);
             for (std::size_t i = 0; i < count; ++i) {
                 const std::uint64_t rm = std::uint64_t(rows[i]) & row_valid;
-                if (!rm) continue;
-                const SphereA<A> sp{s.cx[first + i], s.cy[first + i], s.cz[first + i], s.r[first + i]};
                 std::uint64_t cm = 0;
-                for (std::uint32_t h = 0; h < n; ++h) cm |= std::uint64_t(plane_hits_sphere(a, planes[n + h], sp)) << h;
-                cm &= col_valid;
+                if (pairless) {
+                    cm = std::uint64_t(cols[i]) & col_valid;
+                    if (!rm || !cm) {
+                        if (rm | cm) add_to_runs(*pairless, std::uint32_t(first + i));
+                        continue;
+                    }
+                } else {
+                    if (!rm) continue;
+                    const SphereA<A> sp{s.cx[first + i], s.cy[first + i], s.cz[first + i], s.r[first + i]};
+                    for (std::uint32_t h = 0; h < n; ++h) cm |= std::uint64_t(plane_hits_sphere(a, planes[n + h], sp)) << h;
+                    cm &= col_valid;
+                }
                 if (cm) out.push_back({std::uint32_t(first + i), rm, cm});
             }
         }
     };
     if (n <= 32) {
-        std::uint32_t rows[kChunk];
-        run(rows);
+        std::uint32_t rows[kChunk], cols[kChunk];
+        run(rows, cols);
     } else {
-        std::uint64_t rows[kChunk];
-        run(rows);
+        std::uint64_t rows[kChunk], cols[kChunk];
+        run(rows, cols);
     }
 }
 

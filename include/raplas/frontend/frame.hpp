@@ -13,18 +13,30 @@ namespace raplas {
 
 struct Frame;
 
+// What render_frame measured of a sample of the shadow groups before tracing
+// them all (for the memory budget): mean sphere hits, pair-less runs and
+// pair-less spheres per group.
+struct ShadowSample {
+    double sphere_hits = 0, pairless_runs = 0, pairless_spheres = 0;
+};
+
 struct FrameOptions {
     NumFormat format = NumFormat::float32();
     unsigned threads = 0;   // 0: all cores
     bool record = false;    // keep every group and its sphere-hit list (for the trace)
     bool per_ray = false;   // per-pixel work counts (heat map)
     bool cull = true;       // skip spheres a group provably misses (bit-identical results)
+    // Also find (and, when recording, keep) each group's spheres cut by row
+    // planes only or column planes only, as runs: what a Triangle Selector that
+    // keeps every sphere any plane cuts needs (icc.triangle_select = any).
+    bool pairless = false;
     // Called once the primary rays are traced and before the shadow rays, with
     // the frame so far, the number of pixels whose primary ray hits (one
-    // shadow group each) and, when recording, the mean sphere hits of a
-    // sample of those shadow groups (up to 32, about 1 %, traced twice); may
-    // throw to stop (the memory budget, src/app/memory_checks.cpp).
-    std::function<void(const Frame&, std::size_t lit_pixels, double shadow_sphere_hits)> before_shadow;
+    // shadow group each) and, when recording, the mean sphere hits and
+    // pair-less runs of a sample of those shadow groups (up to 32, about 1 %,
+    // traced twice); may throw to stop (the memory budget,
+    // src/app/memory_checks.cpp).
+    std::function<void(const Frame&, std::size_t lit_pixels, const ShadowSample& sample)> before_shadow;
 };
 
 struct PhaseTimes {
@@ -49,6 +61,7 @@ struct Frame {
     std::vector<std::uint64_t> work_spheres;  // W*H sphere hits (same)
     std::uint64_t shadow_group_count = 0;
     GroupCounts primary_counts, shadow_counts;
+    std::uint64_t primary_pairless_runs = 0;  // when recording with FrameOptions::pairless
     PhaseTimes times;
 };
 

@@ -17,6 +17,7 @@ struct TraceShape {
     std::uint64_t primary_groups = 0, shadow_groups = 0;
     std::uint32_t group_size = 16, shadow_group_size = 16;
     double primary_sphere_hits = 0, shadow_sphere_hits = 0;  // totals over the groups
+    double pairless_runs = 0, pairless_spheres = 0;           // totals (traces for icc.triangle_select = any)
     bool directions = true;  // groups hold N*N ray directions (read from a file), not the ray grid
     std::uint64_t groups() const { return primary_groups + shadow_groups; }
 };
@@ -30,10 +31,10 @@ std::uint32_t format_bytes_per_value(const NumFormat& f);
 std::vector<MemoryItem> frame_memory_up_front(const Scene& s, const FrameOptions& o);
 
 // From FrameOptions::before_shadow on: the shadow phase for `lit` pixels and,
-// when recording, the shadow groups kept. `shadow_hits_per_group` is the
-// expected sphere hits per shadow group (render_frame samples some).
+// when recording, the shadow groups kept. `per_group` is what a shadow group
+// is expected to hold (render_frame samples some).
 std::vector<MemoryItem> frame_memory_shadow(const Scene& s, const FrameOptions& o, std::uint64_t lit,
-                                            double shadow_hits_per_group);
+                                            const ShadowSample& per_group);
 
 // The Trace structure (make_trace / read_trace) of that shape; built by
 // make_trace(scene, Frame&&), only what it adds to the frame.
@@ -41,12 +42,12 @@ MemoryItem trace_memory(const TraceShape& t, bool moved_from_frame = false);
 // The serialized trace (raplas trace's file buffer).
 MemoryItem trace_file_memory(const TraceShape& t);
 // The shape of a frame's trace, once the primary rays are traced.
-TraceShape trace_shape(const Scene& s, const Frame& f, std::uint64_t lit, double shadow_hits_per_group);
+TraceShape trace_shape(const Scene& s, const Frame& f, std::uint64_t lit, const ShadowSample& per_group);
 // The shape of a parsed trace.
 TraceShape trace_shape(const Trace& t);
-// The shape of a trace file, from its first fields and its size (docs/TRACE.md):
-// the sphere-hit count is what the groups leave of the payload. All zero
-// when the file is not a trace of this version (the reader then says why).
+// The shape of a trace file, from its first fields and each group's counts
+// (docs/TRACE.md). All zero when the file is not a trace of this version
+// (the reader then says why).
 TraceShape trace_file_shape(const std::string& path);
 
 }  // namespace raplas

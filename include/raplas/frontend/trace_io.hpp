@@ -12,7 +12,8 @@
 
 namespace raplas {
 
-constexpr std::uint32_t kTraceVersion = 2;  // 2: triangle records carry V1 and V2
+// 2: triangle records carry V1 and V2; 3: groups may carry their pair-less spheres.
+constexpr std::uint32_t kTraceVersion = 3;
 // Bytes of one sphere and one triangle record in the file (docs/TRACE.md).
 constexpr std::uint64_t kTraceSphereBytes = 24;    // vec3 centre, f32 radius, u32 first, u32 count
 constexpr std::uint64_t kTraceTriangleBytes = 76;  // vec3 V0, E1, E2, E, V1, V2, i32 mesh index
@@ -28,6 +29,7 @@ struct TraceGroup {
     std::vector<Vec3f> dirs;              // N*N ray directions, index v*N + h; empty: from the grid below
     Vec3d grid_corner, du, dv;            // (traces built in memory) grid point (h, v) = corner + (h+.5) du + (v+.5) dv
     std::vector<SphereHitRec> sphere_hits;  // spheres with a row and a column plane hit, in stream order
+    std::vector<SphereRun> pairless;        // spheres cut by row planes only or column planes only (Trace::pairless)
     GroupCounts counts;
     std::vector<Hit> hits;                // N*N nearest hits found by the front end
 
@@ -50,17 +52,22 @@ struct Trace {
     std::vector<std::uint32_t> first_tri, tri_count;
     std::vector<TriangleRec> triangles;
     std::vector<std::int32_t> tri_mesh_index;
+    // Whether the groups carry their pair-less spheres (what a Triangle
+    // Selector that keeps every sphere any plane cuts needs: a trace made
+    // for icc.triangle_select = any); otherwise their lists are empty.
+    bool pairless = false;
     std::uint32_t primary_groups = 0;     // groups [0, primary_groups) are primary, the rest shadow
     std::vector<TraceGroup> groups;       // issue order
 
     GroupCounts total_counts() const;
 };
 
-// Builds the trace from a frame rendered with FrameOptions::record.
-Trace make_trace(const Scene& scene, const Frame& frame, const NumFormat& format);
+// Builds the trace from a frame rendered with FrameOptions::record (and
+// FrameOptions::pairless for a trace that carries the pair-less spheres).
+Trace make_trace(const Scene& scene, const Frame& frame, const NumFormat& format, bool pairless = false);
 // The same trace, taking the groups' records and hits out of the frame as it
 // goes (the frame's groups are left empty): peak memory stays near one copy.
-Trace make_trace(const Scene& scene, Frame&& frame, const NumFormat& format);
+Trace make_trace(const Scene& scene, Frame&& frame, const NumFormat& format, bool pairless = false);
 
 std::string serialize_trace(const Trace& t);
 Trace parse_trace(const std::string& bytes, const std::string& name);
