@@ -66,12 +66,20 @@ std::uint64_t Top::run_pass_bound(const Host::Pass& p) {
     const std::uint32_t empty_cycles = cfg_.icc.fetcher.empty_cycles;
     const bool keep_pairless = cfg_.icc.decoder.select == TriangleSelect::any;
     std::uint64_t end_cycle = std::max<std::uint64_t>(b.spheres_sent_by, b.tri_cycle.empty() ? 0 : b.tri_cycle.back() + 1);
+    // Each ICC's Ray Data Fetcher and RTI: next free issue cycle and the pipes
+    // used in it; `done`, the last cycle the back end is busy. Empty at the
+    // start of a pass, or (overlapped passes) what the previous pass left.
+    std::vector<EventBack>& backs = event_back_;
+    if (!cfg_.overlap_passes || backs.size() != iccs.size()) backs.assign(iccs.size(), EventBack{});
+    std::uint64_t prev_done = 0;
+    for (const EventBack& e : backs) prev_done = std::max(prev_done, e.done);
+    std::uint64_t all_done = prev_done;
     for (std::uint32_t gi = p.begin; gi < p.end; ++gi) {
-        // The ICC's Ray Data Fetcher and RTI: next free issue cycle and the
-        // pipes used in it; `done`, the last cycle the back end is busy.
-        std::uint64_t next_cyc = 0, done = 0;
-        std::uint32_t next_used = 0;
-        bool any = false;
+        EventBack& back = backs[gi - p.begin];
+        std::uint64_t& next_cyc = back.next_cyc;
+        std::uint64_t& done = back.done;
+        std::uint32_t& next_used = back.next_used;
+        bool& any = back.any;
         auto sphere = [&](std::uint32_t s, std::uint64_t m) {
             for (std::uint32_t tri = trace_.first_tri[s]; tri < trace_.first_tri[s] + trace_.tri_count[s]; ++tri) {
                 std::uint64_t start = b.tri_cycle[tri] + 1;
@@ -126,8 +134,13 @@ std::uint64_t Top::run_pass_bound(const Host::Pass& p) {
             sphere(h.sphere, std::uint64_t(__builtin_popcountll(h.rows)) * std::uint64_t(__builtin_popcountll(h.cols)));
         }
         pairless_before(~std::uint32_t(0));
-        if (any) end_cycle = std::max(end_cycle, done + 1);
+        all_done = std::max(all_done, done);
     }
+    // The pass ends when its streams are done and its work (or, overlapped,
+    // the previous pass's) has left the RTIs.
+    end_cycle = std::max(end_cycle, (p.drain ? all_done : prev_done) + 1);
+    if (cfg_.overlap_passes)
+        for (EventBack& e : backs) shift_back(e, end_cycle);
     return end_cycle;
 }
 

@@ -78,6 +78,10 @@ ParamSet machine_params() {
     p.add_int("link.triangle_record_bytes", 39, 1, 1024, "bytes per triangle record (paper: 15.6 GB/s at 400 MHz)");
     p.add_int("link.result_bytes", 6, 1, 1024, "bytes per ray result on the Output Link (Min-distance Memory entry)");
     p.add_int("host.pass_overhead_cycles", 0, 0, 100000000, "cycles added per pass (group load, result read-out)");
+    p.add_bool("host.overlap_passes", false,
+               "true: double-buffered Ray and Min-distance Memories; a pass's streams start as soon as the previous "
+               "pass's streams are done and the pass before it has drained, while the previous pass's Ray Data "
+               "Fetchers and RTIs drain (the last pass of the primary and of the shadow phase drains fully)");
     p.add_int("workload.group_size", 0, 0, 64, "primary ray group size N (0 = the scene's groups.size)");
     p.add_int("workload.shadow_group_size", 0, 0, 64, "shadow ray group size (0 = the scene's groups.shadow_size)");
     p.add_int("workload.triangles_per_sphere", 0, 0, 64, "triangles per sphere (0 = the scene's value)");
@@ -179,6 +183,7 @@ SimConfig config_from_params(const ParamSet& p) {
     c.icc.output.entry_bytes = std::uint32_t(p.get_int("link.result_bytes"));
     c.icc.min_distance.entry_bytes = c.icc.output.entry_bytes;
     c.pass_overhead_cycles = std::uint64_t(p.get_int("host.pass_overhead_cycles"));
+    c.overlap_passes = p.get_bool("host.overlap_passes");
     c.triangle_lag_cycles = std::uint64_t(p.get_int("link.triangle_lag_cycles"));
     c.group_size = std::uint32_t(p.get_int("workload.group_size"));
     c.shadow_group_size = std::uint32_t(p.get_int("workload.shadow_group_size"));
@@ -202,6 +207,10 @@ SimConfig config_from_params(const ParamSet& p) {
     if (c.estimate == Estimate::fifo_bound && c.fault != Fault::none)
         throw InputError(p.origin("sim.fault") + ": sim.fault = " + fault +
                          " needs a simulation, but sim.estimate = fifo_bound computes the cycles in closed form");
+    if (c.overlap_passes && c.estimate == Estimate::sample_passes)
+        throw InputError(p.origin("host.overlap_passes") +
+                         ": overlapped passes depend on the pass before them, but sim.estimate = sample_passes "
+                         "simulates passes alone; use sim.estimate = exact or fifo_bound");
     if (c.fault_icc >= c.iccs)
         throw InputError(p.origin("sim.fault_icc") + ": sim.fault_icc = " + std::to_string(c.fault_icc) +
                          " but the machine has " + std::to_string(c.iccs) + " ICCs");

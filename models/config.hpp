@@ -34,6 +34,7 @@ struct SimConfig {
     Icc::Params icc;
     std::uint32_t sphere_record_bytes = 16, triangle_record_bytes = 39;
     std::uint64_t pass_overhead_cycles = 0;
+    bool overlap_passes = false;  // a pass's streams start while the previous pass drains (double buffers)
     std::uint64_t triangle_lag_cycles = 0;  // the triangle stream starts this many cycles after the sphere stream
     // Workload overrides of the scene (0 = keep the scene's value).
     std::uint32_t group_size = 0, shadow_group_size = 0, triangles_per_sphere = 0;

@@ -44,13 +44,13 @@ void Top::tick_shared_side(bool spheres_pending) {
     ref_psi_->tick(*ref_fifo_, false, spheres_pending || !ref_fifo_->empty());
 }
 
-std::uint64_t Top::run_pass_event(const Host::Pass& p) {
+std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     enum Role : std::uint8_t { ref, individual };
     std::vector<Icc*> active;
     for (std::size_t k = 0; k < iccs.size(); ++k) {
         const std::uint32_t gi = p.begin + std::uint32_t(k);
         const TraceGroup* g = gi < p.end ? &trace_.groups[gi] : nullptr;
-        iccs[k].start_pass(g);
+        iccs[k].start_pass(g, buf, cfg_.overlap_passes);
         if (g) active.push_back(&iccs[k]);
     }
     const std::size_t na = active.size();
@@ -102,20 +102,25 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p) {
     std::vector<std::uint32_t> selecting, individuals, full_now;
     // ICCs whose Triangle FIFO is full at the start of every cycle up to `second`.
     std::vector<std::pair<std::uint32_t, std::uint64_t>> full_until;
-    // Back end of each ICC: the pop cycles of the triangles still in its
-    // Triangle FIFO, the next free RTI issue slot, and the cycle from whose
-    // end on it is empty.
-    struct Back {
-        std::deque<std::uint64_t> starts;
-        std::uint64_t next_cyc = 0;
-        std::uint32_t next_used = 0;
-        bool any = false;
-        std::uint64_t done = 0;
-    };
-    std::vector<Back> back(na);
+    // Back end of every ICC (EventBack, top.hpp): empty at the start of a
+    // pass, or with overlapped passes what the previous pass left, in this
+    // pass's cycles.
+    using Back = EventBack;
+    std::vector<Back>& back = event_back_;
+    if (!cfg_.overlap_passes || back.size() != iccs.size()) back.assign(iccs.size(), Back{});
     constexpr std::uint64_t kNever = ~std::uint64_t(0);
     std::vector<std::uint8_t> is_full(na, 0);
-    std::uint64_t max_done = 0;
+    // The last busy cycle of the previous pass's work (the pass cannot end
+    // before it under overlap), and of all work.
+    std::uint64_t prev_done = 0;
+    for (const Back& b : back) prev_done = std::max(prev_done, b.done);
+    std::uint64_t max_done = prev_done;
+    for (std::uint32_t k = 0; k < na; ++k)
+        if (back[k].starts.size() >= tri_depth) {  // full of the previous pass's triangles
+            full_until.push_back({k, back[k].starts.front()});
+            is_full[k] = 1;
+            full_now.push_back(k);
+        }
 
     auto adopt_reference = [&](std::size_t k) {
         Icc& c = *active[k];
@@ -196,7 +201,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p) {
                 double t;
                 if (unit.rti(v * n + h, tri, t)) {
                     ++nhits;
-                    icc.min_distance.update(v * n + h, t, tri);
+                    icc.min_distance(buf).update(v * n + h, t, tri);
                 }
             }
         }
@@ -409,7 +414,9 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p) {
         }
         std::sort(full_now.begin(), full_now.end());
         ++cycle;
-        if (!sphere_link.has_record() && !triangle_link.has_record() && selecting.empty() && max_done < cycle) break;
+        if (!sphere_link.has_record() && !triangle_link.has_record() && selecting.empty() &&
+            (p.drain ? max_done : prev_done) < cycle)
+            break;
         if (++since_sync_ >= cfg_.sync_cycles && !sync_time(cycle, watch, max_done, [&] { return views(cycle); }))
             return cycle;
     }
@@ -417,7 +424,19 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p) {
         if (role[k] == ref) adopt_reference(k);
     for (auto& icc : iccs)
         if (!icc.active()) icc.add_idle(cycle);
+    if (cfg_.overlap_passes)  // the next pass starts at this pass's cycle `cycle`
+        for (Back& b : back) shift_back(b, cycle);
     return cycle;
+}
+
+void Top::shift_back(EventBack& b, std::uint64_t by) {
+    constexpr std::uint64_t kNever = ~std::uint64_t(0);
+    while (!b.starts.empty() && b.starts.front() < by) b.starts.pop_front();  // popped by the end of cycle by - 1
+    for (std::uint64_t& s : b.starts)
+        if (s != kNever) s -= by;
+    if (b.any && b.next_cyc >= by) b.next_cyc -= by;
+    else b.any = false;  // the next issue slot is free from the pass's first cycle on
+    if (b.done != kNever) b.done = b.done >= by ? b.done - by : 0;
 }
 
 }  // namespace raplas::model

@@ -62,41 +62,49 @@ public:
           triangle_fifo("triangle_fifo", p.triangle_fifo),
           ray_data_fetcher("ray_data_fetcher", p.fetcher),
           rti("rti", p.rti),
-          min_distance("min_distance_memory", p.min_distance),
+          min_distance_0("min_distance_memory_0", p.min_distance),
+          min_distance_1("min_distance_memory_1", p.min_distance),
           output("output_link", p.output),
           params_(p),
-          unit_(f.make_unit()),
+          units_{f.make_unit(), f.make_unit()},
           functional_(f) {}
 
-    void start_pass(const TraceGroup* g) {
+    // A pass gives this ICC group g (or none) in Ray Memory / Min-distance
+    // Memory buffer `buf`. With `overlap` the other buffer's group may still
+    // be draining behind the Triangle Selector, and its work is kept.
+    void start_pass(const TraceGroup* g, std::uint8_t buf = 0, bool overlap = false) {
         group_ = g;
         sphere_fifo.clear();
         planeid_fifo.clear();
         first_tri_fifo.clear();
-        triangle_fifo.clear();
         decoder.start_group();
-        rti.start_group();
+        if (!overlap) {
+            triangle_fifo.clear();
+            rti.start_group();
+        }
         if (!g) return;
+        buf_ = buf;
         ++stats_.groups;
         selected_before_ = triangle_selector.stats().selected;
         sphere_pushes_before_ = sphere_fifo.stats().pushes;
-        rti_busy_before_ = rti.stats().busy_cycles;
-        if (loaded_ != g) unit_->load(*g);
-        loaded_ = nullptr;
-        psi.start_group(2 * g->n, &unit_->sphere_hits(),
-                        params_.decoder.select == TriangleSelect::any ? &unit_->pairless() : nullptr);
-        ray_data_fetcher.start_group(g->n);
-        min_distance.reset(std::size_t(g->n) * g->n);
+        GroupUnit& u = *units_[buf];
+        if (loaded_[buf] != g) u.load(*g);
+        loaded_[buf] = nullptr;
+        psi.start_group(2 * g->n, &u.sphere_hits(), params_.decoder.select == TriangleSelect::any ? &u.pairless() : nullptr);
+        ray_data_fetcher.start_group(g->n, buf, overlap);
+        min_distance(buf).reset(std::size_t(g->n) * g->n);
     }
     bool active() const { return group_ != nullptr; }
-    // Loads a group's planes and rays and computes its PSI results ahead of
-    // start_pass (thread-safe across ICCs: the host loads them in parallel).
-    void preload(const TraceGroup* g) {
-        if (g) unit_->load(*g);
-        loaded_ = g;
+    // Loads a group's planes and rays into buffer `buf` and computes its PSI
+    // results ahead of start_pass (thread-safe across ICCs: the host loads
+    // them in parallel).
+    void preload(const TraceGroup* g, std::uint8_t buf = 0) {
+        if (g) units_[buf]->load(*g);
+        loaded_[buf] = g;
     }
     void add_idle(std::uint64_t cycles) { stats_.idle_cycles += cycles; }
     const TraceGroup* group() const { return group_; }
+    std::uint8_t buffer() const { return buf_; }
 
     bool sphere_ready() const { return sphere_selector.ready(active(), sphere_fifo); }
     void note_sphere_blocked() { sphere_selector.note_blocked(sphere_fifo); }
@@ -115,13 +123,16 @@ public:
     }
     // The blocks behind the Decoder: RTI, Ray Data Fetcher, Triangle Selector.
     void tick_back(std::int64_t tri, std::uint32_t tri_sphere) {
-        if (!(rti.empty() && ray_data_fetcher.idle() && triangle_fifo.empty())) {  // else nothing behind the Selector
-            rti.retire(*unit_, min_distance);
+        if (!back_idle()) {  // else nothing behind the Selector
+            GroupUnit* const units[2] = {units_[0].get(), units_[1].get()};
+            MinDistanceMemory* const mems[2] = {&min_distance_0, &min_distance_1};
+            rti.retire(units, mems);
             ray_data_fetcher.tick(triangle_fifo, rti);
             rti.advance();
         }
         if (tri >= 0)
-            triangle_selector.receive(true, std::uint32_t(tri), tri_sphere, planeid_fifo, first_tri_fifo, triangle_fifo);
+            triangle_selector.receive(active(), std::uint32_t(tri), tri_sphere, planeid_fifo, first_tri_fifo, triangle_fifo,
+                                      buf_);
     }
     // Decoder, PSI and Sphere Selector.
     void tick_front(std::int64_t sphere, const SphereInfo& info, bool spheres_pending) {
@@ -130,23 +141,41 @@ public:
         if (sphere >= 0) sphere_selector.receive(true, std::uint32_t(sphere), sphere_fifo);
     }
     bool back_idle() const { return rti.empty() && ray_data_fetcher.idle() && triangle_fifo.empty(); }
-    const GroupUnit& unit() const { return *unit_; }
-    GroupUnit& unit() { return *unit_; }
+    // The unit of this pass's group (and of buffer `buf`).
+    const GroupUnit& unit() const { return *units_[buf_]; }
+    GroupUnit& unit() { return *units_[buf_]; }
+    MinDistanceMemory& min_distance(std::uint8_t buf) { return buf ? min_distance_1 : min_distance_0; }
+    const MinDistanceMemory& min_distance(std::uint8_t buf) const { return buf ? min_distance_1 : min_distance_0; }
     // Nothing left in flight behind the Triangle Selector.
-    bool drained() const { return triangle_fifo.empty() && ray_data_fetcher.idle() && rti.empty(); }
+    bool drained() const { return back_idle(); }
+    // No work of buffer `buf`'s group left behind the Triangle Selector (the
+    // Triangle FIFO is in issue order: older groups' entries come first).
+    bool drained(std::uint8_t buf) const {
+        return !(!triangle_fifo.empty() && triangle_fifo.front().buf == buf) && !ray_data_fetcher.holds(buf) &&
+               rti.inflight(buf) == 0;
+    }
 
-    // End of pass (`cycles` long, `triangles` broadcast): derived figures,
-    // then the results out through the Output Link.
-    const std::vector<Hit>& finish_pass(std::uint64_t cycles, std::uint64_t triangles) {
+    // End of this ICC's pass (`cycles` long, `triangles` broadcast): the
+    // front end's figures.
+    void finish_pass(std::uint64_t cycles, std::uint64_t triangles) {
         stats_.pass_cycles += cycles;
         psi.end_group();
         decoder.end_group();
         triangle_selector.end_group(triangles, selected_before_);
         sphere_selector.end_group(sphere_fifo.stats().pushes - sphere_pushes_before_);
-        ray_data_fetcher.add_starved(cycles - (rti.stats().busy_cycles - rti_busy_before_));
-        if (functional_.mode() == FunctionalMode::trace) min_distance.set(group_->hits);
-        output.send(std::uint64_t(group_->n) * group_->n);
-        return min_distance.hits();
+    }
+    // Group g, in buffer `buf`, has drained: its results out through the
+    // Output Link.
+    const std::vector<Hit>& results(const TraceGroup& g, std::uint8_t buf) {
+        MinDistanceMemory& m = min_distance(buf);
+        if (functional_.mode() == FunctionalMode::trace) m.set(g.hits);
+        output.send(std::uint64_t(g.n) * g.n);
+        return m.hits();
+    }
+    // End of the run: pass cycles in which the RTI took no pair.
+    void finish_run() {
+        const std::uint64_t busy = rti.stats().busy_cycles;
+        ray_data_fetcher.add_starved(stats_.pass_cycles > busy ? stats_.pass_cycles - busy : 0);
     }
 
     const Params& params() const { return params_; }
@@ -162,16 +191,17 @@ public:
     Fifo<TriWork> triangle_fifo;
     RayDataFetcher ray_data_fetcher;
     RayTriangleIntersector rti;
-    MinDistanceMemory min_distance;
+    MinDistanceMemory min_distance_0, min_distance_1;  // double-buffered (overlapped passes)
     OutputLink output;
 
 private:
     Params params_;
-    std::unique_ptr<GroupUnit> unit_;
+    std::unique_ptr<GroupUnit> units_[2];  // Ray Memory (and plane tests) of the two buffers
     const Functional& functional_;
     const TraceGroup* group_ = nullptr;
-    const TraceGroup* loaded_ = nullptr;
-    std::uint64_t selected_before_ = 0, sphere_pushes_before_ = 0, rti_busy_before_ = 0;
+    const TraceGroup* loaded_[2] = {nullptr, nullptr};
+    std::uint8_t buf_ = 0;
+    std::uint64_t selected_before_ = 0, sphere_pushes_before_ = 0;
     Stats stats_;
 };
 

@@ -26,12 +26,17 @@ public:
     };
     RayDataFetcher(sc_core::sc_module_name n, const Params& p) : sc_core::sc_module(n), params_(p) {}
 
-    void start_group(std::uint32_t n) {
-        n_ = n;
+    // A new group of N x N rays in buffer `buf`; `keep` (overlapped passes)
+    // leaves the previous group's work in progress.
+    void start_group(std::uint32_t n, std::uint8_t buf = 0, bool keep = false) {
+        n_[buf] = n;
+        if (keep) return;
         busy_ = false;
         empty_left_ = 0;
     }
     bool idle() const { return !busy_ && !empty_left_; }
+    // Still working on a triangle of buffer `buf`.
+    bool holds(std::uint8_t buf) const { return !idle() && cur_.buf == buf; }
     void add_starved(std::uint64_t cycles) { stats_.starved_cycles += cycles; }
     void note_triangle(bool empty) {
         ++stats_.triangles;
@@ -61,7 +66,7 @@ public:
             }
             const std::uint32_t v = std::uint32_t(__builtin_ctzll(rows_left_));
             const std::uint32_t h = std::uint32_t(__builtin_ctzll(cols_left_));
-            rti.issue({v * n_ + h, cur_.tri});
+            rti.issue({v * n_[cur_.buf] + h, cur_.tri, cur_.buf});
             cols_left_ &= cols_left_ - 1;
             if (!cols_left_) {
                 rows_left_ &= rows_left_ - 1;
@@ -81,7 +86,7 @@ public:
 
 private:
     Params params_;
-    std::uint32_t n_ = 0;
+    std::uint32_t n_[2] = {0, 0};  // group size of each buffer
     bool busy_ = false;
     std::uint32_t empty_left_ = 0;  // cycles still held by a triangle with no pair
     TriWork cur_;

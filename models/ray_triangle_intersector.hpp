@@ -12,8 +12,11 @@
 
 namespace raplas::model {
 
+// A (ray, triangle) pair; `buf` names the Ray Memory / Min-distance Memory
+// buffer of its group (two when passes overlap, docs/MODEL.md §3).
 struct RtiOp {
     std::uint32_t ray = 0, tri = 0;
+    std::uint8_t buf = 0;
 };
 
 class RayTriangleIntersector : public sc_core::sc_module {
@@ -34,22 +37,31 @@ public:
         std::fill(count_.begin(), count_.end(), 0u);
         idx_ = 0;
         inflight_ = 0;
+        inflight_buf_[0] = inflight_buf_[1] = 0;
     }
     bool empty() const { return inflight_ == 0; }
     std::uint32_t inflight() const { return inflight_; }
-    // Start of a cycle: the pairs that entered `stages` cycles ago leave.
-    void retire(GroupUnit& unit, MinDistanceMemory& mem) {
+    std::uint32_t inflight(std::uint8_t buf) const { return inflight_buf_[buf]; }
+    // Start of a cycle: the pairs that entered `stages` cycles ago leave, each
+    // to its buffer's group unit and Min-distance Memory.
+    void retire(GroupUnit* const units[2], MinDistanceMemory* const mems[2]) {
         const std::uint32_t n = count_[idx_];
         const RtiOp* slot = &ops_[std::size_t(idx_) * params_.pipes];
         for (std::uint32_t i = 0; i < n; ++i) {
             double t;
-            if (unit.rti(slot[i].ray, slot[i].tri, t)) {
+            if (units[slot[i].buf]->rti(slot[i].ray, slot[i].tri, t)) {
                 ++stats_.hits;
-                mem.update(slot[i].ray, t, slot[i].tri);
+                mems[slot[i].buf]->update(slot[i].ray, t, slot[i].tri);
             }
+            --inflight_buf_[slot[i].buf];
         }
         inflight_ -= n;
         count_[idx_] = 0;
+    }
+    void retire(GroupUnit& unit, MinDistanceMemory& mem) {  // one buffer
+        GroupUnit* const u[2] = {&unit, &unit};
+        MinDistanceMemory* const m[2] = {&mem, &mem};
+        retire(u, m);
     }
     // Event-driven simulation: `tests` pairs, `hits` of them hits, entering
     // in `busy` distinct cycles, accounted at once.
@@ -65,6 +77,7 @@ public:
     void issue(const RtiOp& op) {
         ops_[std::size_t(idx_) * params_.pipes + count_[idx_]++] = op;
         ++inflight_;
+        ++inflight_buf_[op.buf];
         ++stats_.tests;
     }
     // End of a cycle.
@@ -80,6 +93,7 @@ private:
     std::vector<RtiOp> ops_;             // stages x pipes slots
     std::vector<std::uint32_t> count_;   // pairs in each stage's slot
     std::uint32_t idx_ = 0, inflight_ = 0;
+    std::uint32_t inflight_buf_[2] = {0, 0};
     bool stuck_ = false;
     Stats stats_;
 };

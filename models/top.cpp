@@ -25,7 +25,7 @@ struct Top::Vcd {
 Top::Top(sc_core::sc_module_name n, const SimConfig& cfg, const Trace& trace, const Functional& f,
          const SimOptions& opt)
     : sc_core::sc_module(n),
-      host("host", Host::Params{cfg.iccs, cfg.pass_overhead_cycles}),
+      host("host", Host::Params{cfg.iccs, cfg.pass_overhead_cycles, cfg.overlap_passes}),
       sphere_memory("sphere_memory", SphereMemory::Params{cfg.sphere_record_bytes}),
       triangle_memory("triangle_memory", TriangleMemory::Params{cfg.triangle_record_bytes}),
       sphere_link("sphere_stream_link", StreamLink::Params{cfg.sphere_record_bytes}),
@@ -193,14 +193,16 @@ bool Top::sync_time(std::uint64_t cycle, Watch& w, std::uint64_t extra_progress,
     return true;
 }
 
-std::uint64_t Top::run_pass(const Host::Pass& p) {
-    std::vector<Icc*> active;
+std::uint64_t Top::run_pass(const Host::Pass& p, std::uint8_t buf) {
+    std::vector<Icc*> active, draining;
     for (std::size_t k = 0; k < iccs.size(); ++k) {
         const std::uint32_t gi = p.begin + std::uint32_t(k);
         const TraceGroup* g = gi < p.end ? &trace_.groups[gi] : nullptr;
-        iccs[k].start_pass(g);
+        iccs[k].start_pass(g, buf, cfg_.overlap_passes);
         if (g) active.push_back(&iccs[k]);
+        else if (!iccs[k].drained()) draining.push_back(&iccs[k]);  // the previous pass's work (overlap)
     }
+    const std::uint8_t prev = buf ^ 1;
     sphere_link.start_pass(sphere_memory.size());
     triangle_link.start_pass(triangle_memory.size());
     const SphereInfo info{&sphere_memory};
@@ -229,12 +231,16 @@ std::uint64_t Top::run_pass(const Host::Pass& p) {
         const bool s_stall = s_has && !s_ok, t_stall = t_has && !t_ok;
         const bool spheres_pending = sphere_link.has_record();
         for (Icc* c : active) c->tick(s, t, ts, info, spheres_pending);
+        for (Icc* c : draining) c->tick_back(-1, 0);
         ++cycle;
         if (vcd_) sample_vcd(s >= 0, s_stall, t >= 0, t_stall);
         if (opt_.on_cycle) opt_.on_cycle(*this, cycle - 1, s, t);
         if (!sphere_link.has_record() && !triangle_link.has_record()) {
+            // The pass ends when its streams are done and every ICC has
+            // drained: all of its work, or (overlapped passes) the previous
+            // pass's, whose buffer the next pass needs.
             bool drained = true;
-            for (Icc* c : active) drained = drained && c->drained();
+            for (const auto& c : iccs) drained = drained && (p.drain ? c.drained() : c.drained(prev));
             if (drained) break;
         }
         if (++since_sync_ >= cfg_.sync_cycles && !sync_time(cycle, watch, 0, [&] {
@@ -250,11 +256,14 @@ std::uint64_t Top::run_pass(const Host::Pass& p) {
     return cycle;
 }
 
-void Top::check_pass(const Host::Pass& p) {
-    for (std::size_t k = 0; k < iccs.size(); ++k) {
-        if (!iccs[k].active()) continue;
+void Top::end_pass(const Host::Pass& p) {
+    for (std::size_t k = 0; k < p.end - p.begin; ++k) iccs[k].finish_pass(pass_len_, triangle_memory.size());
+}
+
+void Top::check_pass(const Host::Pass& p, std::uint8_t buf) {
+    for (std::size_t k = 0; k < p.end - p.begin; ++k) {
         const TraceGroup& g = trace_.groups[p.begin + k];
-        const std::vector<Hit>& hits = iccs[k].finish_pass(pass_len_, triangle_memory.size());
+        const std::vector<Hit>& hits = iccs[k].results(g, buf);
         if (functional_.mode() != FunctionalMode::compute) continue;
         for (std::uint32_t v = 0; v < g.n; ++v)
             for (std::uint32_t h = 0; h < g.n; ++h) {
@@ -265,9 +274,9 @@ void Top::check_pass(const Host::Pass& p) {
     }
 }
 
-void Top::preload(const Host::Pass& p) {
+void Top::preload(const Host::Pass& p, std::uint8_t buf) {
     const std::size_t n = p.end - p.begin;
-    parallel_for(n, default_threads(), [&](std::size_t k) { iccs[k].preload(&trace_.groups[p.begin + k]); });
+    parallel_for(n, default_threads(), [&](std::size_t k) { iccs[k].preload(&trace_.groups[p.begin + k], buf); });
 }
 
 std::vector<std::uint32_t> Top::choose_passes(const std::vector<Host::Pass>& passes) const {
@@ -341,19 +350,29 @@ void Top::run_passes(const std::vector<Host::Pass>& passes) {
     const bool bound = cfg_.estimate == Estimate::fifo_bound;
     const std::vector<std::uint32_t> chosen = choose_passes(passes);
     std::uint64_t total = 0;
+    // Pass i uses buffer i % 2. With overlapped passes a pass's results are
+    // final once the next pass has ended (it waits for them to drain), or at
+    // the end of its phase.
+    const Host::Pass* unchecked = nullptr;
+    std::uint8_t unchecked_buf = 0;
     for (std::size_t ci = 0; ci < chosen.size(); ++ci) {
         const std::size_t i = chosen[ci];
+        const std::uint8_t buf = std::uint8_t(i % 2);
         std::uint64_t c;
         if (bound) {  // closed form: nothing is simulated or checked
             c = run_pass_bound(passes[i]);
             since_sync_ += c;
         } else {
             if (vcd_) vcd_->pass = std::uint32_t(i);
-            preload(passes[i]);
-            c = event_mode_ ? run_pass_event(passes[i]) : run_pass(passes[i]);
+            preload(passes[i], buf);
+            c = event_mode_ ? run_pass_event(passes[i], buf) : run_pass(passes[i], buf);
             if (!error_.empty()) break;  // the watchdog fired
             pass_len_ = c;
-            check_pass(passes[i]);
+            end_pass(passes[i]);
+            if (unchecked) check_pass(*unchecked, unchecked_buf);
+            unchecked = nullptr;
+            if (passes[i].drain) check_pass(passes[i], buf);
+            else unchecked = &passes[i], unchecked_buf = buf;
         }
         c += cfg_.pass_overhead_cycles;
         result_.pass_cycles.push_back(c);
@@ -361,6 +380,7 @@ void Top::run_passes(const std::vector<Host::Pass>& passes) {
         total += c;
         if (opt_.progress) opt_.progress(ci + 1, chosen.size(), total);
     }
+    for (auto& icc : iccs) icc.finish_run();
     if (since_sync_) wait(period_ * double(since_sync_));
     if (cfg_.pass_overhead_cycles) wait(period_ * double(cfg_.pass_overhead_cycles * chosen.size()));
     result_.total_cycles = total;
@@ -407,7 +427,7 @@ SimResult simulate(const Trace& trace, const SimConfig& cfg, const SimOptions& o
         s.triangle_selector = c.triangle_selector.stats();
         s.ray_data_fetcher = c.ray_data_fetcher.stats();
         s.rti = c.rti.stats();
-        s.min_distance = c.min_distance.stats();
+        s.min_distance.updates = c.min_distance_0.stats().updates + c.min_distance_1.stats().updates;
         s.output = c.output.stats();
         r.iccs.push_back(s);
     }

@@ -3,6 +3,7 @@
 // machines stepped each cycle; SystemC time advances every sync_cycles).
 #pragma once
 
+#include <deque>
 #include <functional>
 #include <memory>
 #include <string>
@@ -83,17 +84,22 @@ private:
     void run();
     // Every pass (or a sample under sim.estimate = sample_passes), simulated.
     void run_passes(const std::vector<Host::Pass>& passes);
-    std::uint64_t run_pass(const Host::Pass& p);
-    std::uint64_t run_pass_event(const Host::Pass& p);
+    // Pass p with its groups in Ray / Min-distance Memory buffer `buf`.
+    std::uint64_t run_pass(const Host::Pass& p, std::uint8_t buf);
+    std::uint64_t run_pass_event(const Host::Pass& p, std::uint8_t buf);
     // sim.estimate = fifo_bound: the pass's cycles with unbounded Triangle,
     // PlaneID and First-Triangle-ID FIFOs, in closed form (bound_engine.cpp).
     std::uint64_t run_pass_bound(const Host::Pass& p);
-    void preload(const Host::Pass& p);
+    void preload(const Host::Pass& p, std::uint8_t buf);
     // The passes to simulate (all, or a sample under sim.estimate), and the
     // extrapolated total from a sample.
     std::vector<std::uint32_t> choose_passes(const std::vector<Host::Pass>& passes) const;
     void extrapolate(const std::vector<Host::Pass>& passes);
-    void check_pass(const Host::Pass& p);
+    // The front end's figures of a pass that ended, and the results of a
+    // pass whose groups have drained (Output Link; compared with the front
+    // end's in compute mode).
+    void end_pass(const Host::Pass& p);
+    void check_pass(const Host::Pass& p, std::uint8_t buf);
     // The watchdog's one-line report (models/watchdog.hpp) from the active ICCs' states.
     std::string stuck_report(std::uint64_t cycle, const std::vector<IccView>& views) const;
     IccView view_of(const Icc& c, std::size_t k) const;
@@ -133,6 +139,20 @@ private:
     std::unique_ptr<Fifo<PlaneIdEntry>> ref_planeid_;
     std::unique_ptr<Fifo<FirstTriEntry>> ref_first_tri_;
     std::vector<SphereHitRec> no_hits_;
+    // Event mode: an ICC's back end as a work-conserving queue, in the
+    // current pass's cycles: the pop cycles of the triangles still in its
+    // Triangle FIFO, the next free RTI issue slot (cycle and pipes used in
+    // it), and the last cycle it is busy. Kept from pass to pass when passes
+    // overlap, moved to the next pass's cycles by shift_back.
+    struct EventBack {
+        std::deque<std::uint64_t> starts;
+        std::uint64_t next_cyc = 0;
+        std::uint32_t next_used = 0;
+        bool any = false;
+        std::uint64_t done = 0;
+    };
+    std::vector<EventBack> event_back_;
+    static void shift_back(EventBack& b, std::uint64_t by);
     // The shared sphere side at the start of a pass with groups of size n,
     // and one cycle of it after the link decided (the sphere sent, if any,
     // is pushed by the caller): the event mode and fifo_bound step it alike.

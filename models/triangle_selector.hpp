@@ -11,8 +11,12 @@ namespace raplas::model {
 
 struct TriWork {
     std::uint32_t tri = 0;
+    std::uint8_t buf = 0;  // the group's Ray Memory / Min-distance Memory buffer (in tri's padding: 24 bytes)
     std::uint64_t rows = 0, cols = 0;
+    TriWork() = default;
+    TriWork(std::uint32_t t, std::uint64_t r, std::uint64_t c, std::uint8_t b = 0) : tri(t), buf(b), rows(r), cols(c) {}
 };
+static_assert(sizeof(TriWork) == 24);
 
 enum class StallPolicy { any_full, needed_full };
 
@@ -48,11 +52,11 @@ public:
         }
     }
     void receive(bool active, std::uint32_t tri, std::uint32_t sphere, Fifo<PlaneIdEntry>& plane_ids,
-                 Fifo<FirstTriEntry>& first_ids, Fifo<TriWork>& tri_fifo) {
+                 Fifo<FirstTriEntry>& first_ids, Fifo<TriWork>& tri_fifo, std::uint8_t buf = 0) {
         if (!active) return;
         if (!wants(sphere, first_ids)) return;  // discarded (counted at the end of the pass)
         const PlaneIdEntry& p = plane_ids.front();
-        tri_fifo.push({tri, p.rows, p.cols});
+        tri_fifo.push({tri, p.rows, p.cols, buf});
         ++stats_.selected;
         const FirstTriEntry& f = first_ids.front();
         if (tri + 1 == f.first + f.count) {

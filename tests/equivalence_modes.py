@@ -3,8 +3,8 @@
 of `raplas simulate --json` except wall-clock ones (every key present in
 either JSON), over a seeded grid of scenes, ICC counts, FIFO depths, PlaneID
 FIFO depths, stall policies, PSI pipe counts and stages, RTI pipe counts and
-stages, triangle-stream lags, both Triangle Selector readings and the Ray
-Data Fetcher's cycles on a triangle with no pair. Each scene's trace carries
+stages, triangle-stream lags, both Triangle Selector readings, the Ray
+Data Fetcher's cycles on a triangle with no pair, and overlapped passes. Each scene's trace carries
 the pair-less spheres (it serves both readings); a trace made for the
 row-and-column reading alone must give the same JSON under that reading."""
 import json
@@ -62,6 +62,7 @@ with tempfile.TemporaryDirectory() as tmp:
                    "--set", f"icc.triangle_select={'any' if i % 2 else 'both'}",
                    "--set", f"icc.rdf_empty_cycles={rng.choice([0, 1, 1, 3])}",
                    "--set", f"link.triangle_lag_cycles={rng.choice([0, 0, 7, 40])}",
+                   "--set", f"host.overlap_passes={'true' if i % 4 >= 2 else 'false'}",
                    "--set", f"sim.functional={rng.choice(['compute', 'trace'])}"]
             out = {mode: simulate(trace, mode, cfg) for mode in ("cycle", "event")}
             d = diff(out["cycle"], out["event"])

@@ -24,6 +24,7 @@ const std::vector<std::pair<const char*, const char*>>& columns() {
         {"format", "/format"},
         {"triangle_select", "/triangle_select"},
         {"rdf_empty_cycles", "/rdf_empty_cycles"},
+        {"overlap_passes", "/overlap_passes"},
         {"total_cycles", "/total_cycles"},
         {"time_ms", "/time_ms"},
         {"passes", "/passes"},
@@ -80,6 +81,7 @@ nlohmann::json sim_json(const SimReportInput& in) {
     const bool any = c.icc.decoder.select == model::TriangleSelect::any;
     j["triangle_select"] = any ? "any" : "both";
     j["rdf_empty_cycles"] = c.icc.fetcher.empty_cycles;
+    j["overlap_passes"] = c.overlap_passes;
     j["clock_mhz"] = c.clock_mhz;
     j["total_cycles"] = r.total_cycles;
     if (r.lower_bound)

@@ -161,6 +161,63 @@ void expect_alternating(std::uint32_t rti_pipes) {
 TEST_P(TopClosedForm, PairlessTrianglesQueueBehindRayTriangleWorkOneRtiPipe) { expect_alternating(1); }
 TEST_P(TopClosedForm, PairlessTrianglesQueueBehindRayTriangleWorkTwoRtiPipes) { expect_alternating(2); }
 
+// Overlapped passes (host.overlap_passes): G groups on one ICC, every sphere
+// hit with m = 6 pairs, a FIFO deep enough for two groups. A pass's streams
+// take S + L_psi + 2 cycles, far less than its RTI work, and the next pass
+// starts as soon as the streams are done and the pass before has drained:
+// the RTI works without a gap from cycle L_psi + 3 on, through every group
+// of a phase. Without overlap each pass drains: S m + L_rti + L_psi + 3.
+namespace {
+constexpr std::uint32_t kOvS = 100, kOvM = 6;
+SimResult overlapped(std::uint32_t groups, std::uint32_t primaries, bool overlap, Estimate est = Estimate::exact) {
+    Trace t = test::hand_trace(kOvS, 16, 0b11, 0b111, std::vector<bool>(kOvS, true), groups);
+    t.primary_groups = primaries;
+    for (std::uint32_t g = primaries; g < groups; ++g) t.groups[g].kind = GroupKind::shadow;
+    SimConfig c = base_config(1, 1000);
+    c.icc.planeid_fifo.depth = 1000;
+    c.overlap_passes = overlap;
+    c.estimate = est;
+    return simulate(t, c);
+}
+}  // namespace
+
+TEST_P(TopClosedForm, PassesWithoutOverlapEachDrain) {
+    const SimConfig c = base_config(1, 1000);
+    const std::uint64_t L = c.icc.psi.stages, Lr = c.icc.rti.stages, Sm = std::uint64_t(kOvS) * kOvM;
+    SimResult r = overlapped(3, 3, false);
+    EXPECT_EQ(r.total_cycles, 3 * (Sm + Lr + L + 3));
+}
+
+TEST_P(TopClosedForm, OverlappedPassesKeepTheRtiBusyAcrossPasses) {
+    const SimConfig c = base_config(1, 1000);
+    const std::uint64_t L = c.icc.psi.stages, Lr = c.icc.rti.stages, S = kOvS, Sm = std::uint64_t(kOvS) * kOvM;
+    SimResult r = overlapped(3, 3, true);
+    EXPECT_EQ(r.total_cycles, L + 3 + 3 * Sm + Lr);
+    // pass 0 ends with its streams; pass 1 when pass 0 has drained; pass 2 drains
+    ASSERT_EQ(r.pass_cycles.size(), 3u);
+    EXPECT_EQ(r.pass_cycles[0], S + L + 2);
+    EXPECT_EQ(r.pass_cycles[0] + r.pass_cycles[1], L + 3 + Sm + Lr);
+    EXPECT_EQ(r.iccs[0].rti.busy_cycles, 3 * Sm);
+    EXPECT_EQ(r.iccs[0].rti.tests, 3 * Sm);
+}
+
+TEST_P(TopClosedForm, OverlappedPassesDrainAtThePrimaryToShadowBoundary) {
+    // Two primary groups, then one shadow group: the shadow pass waits for the
+    // primary phase to drain (its origins are primary hits).
+    const SimConfig c = base_config(1, 1000);
+    const std::uint64_t L = c.icc.psi.stages, Lr = c.icc.rti.stages, Sm = std::uint64_t(kOvS) * kOvM;
+    SimResult r = overlapped(3, 2, true);
+    EXPECT_EQ(r.total_cycles, (L + 3 + 2 * Sm + Lr) + (Sm + Lr + L + 3));
+}
+
+TEST(TopBound, OverlappedPassesInClosedFormEqualTheExactCountWhenNoFifoFills) {
+    const SimConfig c = base_config(1, 1000);
+    const std::uint64_t L = c.icc.psi.stages, Lr = c.icc.rti.stages, Sm = std::uint64_t(kOvS) * kOvM;
+    SimResult r = overlapped(3, 2, true, Estimate::fifo_bound);
+    EXPECT_TRUE(r.lower_bound);
+    EXPECT_EQ(r.total_cycles, (L + 3 + 2 * Sm + Lr) + (Sm + Lr + L + 3));
+}
+
 INSTANTIATE_TEST_SUITE_P(Modes, TopClosedForm, ::testing::Values(SimMode::cycle, SimMode::event),
                          [](const ::testing::TestParamInfo<SimMode>& i) {
                              return std::string(i.param == SimMode::cycle ? "cycle" : "event");
@@ -248,6 +305,14 @@ TEST(TopFunctional, MatchesTheFrontEndUnderTheAnyPlaneReading) {
     c.functional = FunctionalMode::compute;
     c.icc.decoder.select = TriangleSelect::any;
     c.icc.rti.pipes = 2;
+    expect_functional_match(c, 24, 8);
+}
+
+TEST(TopFunctional, MatchesTheFrontEndWithOverlappedPasses) {
+    SimConfig c = base_config(3, 4);
+    c.functional = FunctionalMode::compute;
+    c.overlap_passes = true;
+    c.icc.decoder.select = TriangleSelect::any;
     expect_functional_match(c, 24, 8);
 }
 
