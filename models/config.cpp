@@ -65,8 +65,9 @@ ParamSet machine_params() {
               "any), counting the cycle it is popped in; 0 = dropped at no cost");
     p.add_int("fifo.sphere_depth", 1000, 1, 100000000, "Sphere FIFO depth, records (paper: 10/100/1000)");
     p.add_int("fifo.triangle_depth", 1000, 1, 100000000, "Triangle FIFO depth, records (paper: 10/100/1000)");
-    p.add_int("fifo.planeid_depth", 1000, 1, 100000000,
-              "PlaneID FIFO and First-Triangle-ID FIFO depth, hit spheres (not in the paper)");
+    p.add_int("fifo.planeid_depth", 1000, 0, 100000000,
+              "PlaneID FIFO and First-Triangle-ID FIFO depth, kept spheres (not in the paper); 0 = the Triangle "
+              "FIFO's depth (follows --fifo)");
     p.add_string("link.stall_policy", std::string("any_full"),
                  "when the Triangle Stream Link stops: any_full = any Triangle FIFO full (paper §3.1); "
                  "needed_full = only when an ICC that needs the triangle is full",
@@ -177,6 +178,7 @@ SimConfig config_from_params(const ParamSet& p) {
     c.icc.sphere_fifo.depth = std::uint32_t(p.get_int("fifo.sphere_depth"));
     c.icc.triangle_fifo.depth = std::uint32_t(p.get_int("fifo.triangle_depth"));
     c.icc.planeid_fifo.depth = std::uint32_t(p.get_int("fifo.planeid_depth"));
+    if (c.icc.planeid_fifo.depth == 0) c.icc.planeid_fifo.depth = c.icc.triangle_fifo.depth;
     c.icc.selector.policy = p.get_string("link.stall_policy") == "needed_full" ? StallPolicy::needed_full : StallPolicy::any_full;
     c.sphere_record_bytes = std::uint32_t(p.get_int("link.sphere_record_bytes"));
     c.triangle_record_bytes = std::uint32_t(p.get_int("link.triangle_record_bytes"));

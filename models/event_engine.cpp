@@ -84,17 +84,42 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         std::uint32_t sphere, icc;
         std::uint64_t rows, cols;
     };
-    std::vector<HitEv> hits;
     const bool keep_pairless = cfg_.icc.decoder.select == TriangleSelect::any;
+    // Each ICC's list in sphere order (its hit spheres merged with its
+    // pair-less runs), then all of them merged by (sphere, ICC).
+    std::vector<std::vector<HitEv>> per_icc(na);
     for (std::size_t k = 0; k < na; ++k) {
-        for (const auto& h : active[k]->unit().sphere_hits()) hits.push_back({h.sphere, std::uint32_t(k), h.rows, h.cols});
-        if (keep_pairless)
-            for (const SphereRun& r : active[k]->unit().pairless())
-                for (std::uint32_t s = r.first; s < r.end(); ++s) hits.push_back({s, std::uint32_t(k), 0, 0});
+        const auto& hl = active[k]->unit().sphere_hits();
+        const std::vector<SphereRun> none;
+        const auto& runs = keep_pairless ? active[k]->unit().pairless() : none;
+        std::vector<HitEv>& out = per_icc[k];
+        std::size_t hi = 0;
+        for (const SphereRun& r : runs) {
+            for (; hi < hl.size() && hl[hi].sphere < r.first; ++hi)
+                out.push_back({hl[hi].sphere, std::uint32_t(k), hl[hi].rows, hl[hi].cols});
+            for (std::uint32_t s = r.first; s < r.end(); ++s) out.push_back({s, std::uint32_t(k), 0, 0});
+        }
+        for (; hi < hl.size(); ++hi) out.push_back({hl[hi].sphere, std::uint32_t(k), hl[hi].rows, hl[hi].cols});
     }
-    std::sort(hits.begin(), hits.end(), [](const HitEv& a, const HitEv& b) {
-        return a.sphere < b.sphere || (a.sphere == b.sphere && a.icc < b.icc);
-    });
+    std::vector<HitEv> hits;
+    if (na == 1) {
+        hits = std::move(per_icc[0]);
+    } else {
+        std::size_t total = 0;
+        for (const auto& v : per_icc) total += v.size();
+        hits.reserve(total);
+        using Head = std::pair<std::uint64_t, std::uint32_t>;  // (sphere << 32 | icc, ICC), smallest first
+        std::priority_queue<Head, std::vector<Head>, std::greater<Head>> heads;
+        std::vector<std::size_t> pos(na, 0);
+        for (std::uint32_t k = 0; k < na; ++k)
+            if (!per_icc[k].empty()) heads.push({std::uint64_t(per_icc[k][0].sphere) << 32 | k, k});
+        while (!heads.empty()) {
+            const std::uint32_t k = heads.top().second;
+            heads.pop();
+            hits.push_back(per_icc[k][pos[k]]);
+            if (++pos[k] < per_icc[k].size()) heads.push({std::uint64_t(per_icc[k][pos[k]].sphere) << 32 | k, k});
+        }
+    }
     std::size_t hpos = 0;
     // ICCs waiting for the triangle stream to reach their head sphere, by its first triangle.
     using Wait = std::pair<std::uint32_t, std::uint32_t>;

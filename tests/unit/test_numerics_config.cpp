@@ -73,3 +73,28 @@ TEST(NumericsConfig, DumpedConfigLoadsAgainToTheSameNumerics) {
 }
 
 }  // namespace
+
+namespace {
+
+// The keys of the open hardware choices (docs/MODEL.md §3): each reaches the
+// block it configures, and the PlaneID FIFO can follow the Triangle FIFO.
+TEST(MachineChoicesConfig, ReadingsEmptyCyclesOverlapAndPlaneIdDepth) {
+    using raplas::model::TriangleSelect;
+    const auto d = config_with({});
+    EXPECT_EQ(d.icc.decoder.select, TriangleSelect::both);
+    EXPECT_EQ(d.icc.fetcher.empty_cycles, 1u);
+    EXPECT_FALSE(d.overlap_passes);
+    EXPECT_EQ(d.icc.planeid_fifo.depth, 1000u);
+    const auto c = config_with({"icc.triangle_select=any", "icc.rdf_empty_cycles=0", "host.overlap_passes=true",
+                                "fifo.triangle_depth=37", "fifo.planeid_depth=0"});
+    EXPECT_EQ(c.icc.decoder.select, TriangleSelect::any);
+    EXPECT_EQ(c.icc.fetcher.empty_cycles, 0u);
+    EXPECT_TRUE(c.overlap_passes);
+    EXPECT_EQ(c.icc.planeid_fifo.depth, 37u);  // 0: as deep as the Triangle FIFO
+    EXPECT_NE(error_of({"icc.triangle_select=all"}).find("icc.triangle_select"), std::string::npos);
+    EXPECT_NE(error_of({"icc.rdf_empty_cycles=-1"}).find("icc.rdf_empty_cycles"), std::string::npos);
+    EXPECT_NE(error_of({"host.overlap_passes=true", "sim.estimate=sample_passes"}).find("host.overlap_passes"),
+              std::string::npos);
+}
+
+}  // namespace
