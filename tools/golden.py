@@ -35,6 +35,7 @@ def run_point(raplas, args, k, d):
         out = os.path.join(tmp, "p.csv")
         cmd = [raplas, "simulate", "--config", "paper", "--iccs", str(k), "--fifo", str(d),
                "--set", "workload.group_size=0", "--set", "workload.shadow_group_size=0",
+               "--set", "icc.triangle_select=both",
                "--csv", out, "-q"] + args
         p = subprocess.run(cmd, capture_output=True, text=True)
         if p.returncode != 0:
