@@ -54,7 +54,7 @@ ParamSet machine_params() {
     p.add_int("icc.psi_stages", 10, 1, 1000, "pipeline stages of a Plane-Sphere Intersector (paper: 10)");
     p.add_int("icc.rti_pipes", 1, 1, 64, "Ray-Triangle Intersector pipes per ICC (paper: 1)");
     p.add_int("icc.rti_stages", 25, 1, 1000, "pipeline stages of the Ray-Triangle Intersector (paper: 25)");
-    p.add_string("icc.triangle_select", std::string("both"),
+    p.add_string("icc.triangle_select", std::string("any"),
                  "which spheres' triangles the Triangle Selector keeps: both = spheres cut by a row and a column "
                  "plane (Step 6); any = every sphere any valid ray-plane cuts (paper §4: 'if it finds no intersected "
                  "planes, the triangle data are discarded'), so a sphere cut by rows only or columns only sends "

@@ -33,6 +33,8 @@ inline bool queued(const PsiResult& r, TriangleSelect sel) {
 class Decoder : public sc_core::sc_module {
 public:
     struct Params {
+        // (the machine configs' default is `any`, docs/MODEL.md §3; a config
+        // built in code, as the tests' hand-made traces, starts from `both`)
         TriangleSelect select = TriangleSelect::both;
     };
     struct Stats {

@@ -79,48 +79,65 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     std::size_t n_ref = na;
     // Spheres every ICC's Decoder queues, in sphere order (used for the
     // reference ICCs): its hit spheres and, under icc.triangle_select = any,
-    // its pair-less spheres (masks 0: their triangles give no pair).
-    struct HitEv {
-        std::uint32_t sphere, icc;
-        std::uint64_t rows, cols;
+    // its pair-less spheres (masks 0: their triangles give no pair). Each
+    // ICC's are read through a cursor over its two lists; a heap orders the
+    // ICCs by their next kept sphere (key: sphere << 32 | ICC).
+    constexpr std::uint32_t kNone = ~std::uint32_t(0);
+    struct Kept {
+        const std::vector<SphereHitRec>* hits = nullptr;
+        const std::vector<SphereRun>* runs = nullptr;  // null: the row-and-column reading
+        std::size_t hi = 0, ri = 0;
+        std::uint32_t in_run = 0;  // next sphere of run ri, when past its first
+        std::uint32_t sphere = ~std::uint32_t(0);
+        std::uint64_t rows = 0, cols = 0;
+        void next() {  // the next kept sphere, or sphere = kNone
+            const std::uint32_t none = ~std::uint32_t(0);
+            const std::uint32_t hs = hi < hits->size() ? (*hits)[hi].sphere : none;
+            const std::uint32_t rs = runs && ri < runs->size() ? std::max((*runs)[ri].first, in_run) : none;
+            if (hs == none && rs == none) {
+                sphere = none;
+            } else if (hs < rs) {
+                sphere = hs;
+                rows = (*hits)[hi].rows;
+                cols = (*hits)[hi].cols;
+                ++hi;
+            } else {
+                sphere = rs;
+                rows = cols = 0;
+                in_run = rs + 1;
+                if (in_run >= (*runs)[ri].end()) {
+                    ++ri;
+                    in_run = 0;
+                }
+            }
+        }
     };
     const bool keep_pairless = cfg_.icc.decoder.select == TriangleSelect::any;
-    // Each ICC's list in sphere order (its hit spheres merged with its
-    // pair-less runs), then all of them merged by (sphere, ICC).
-    std::vector<std::vector<HitEv>> per_icc(na);
-    for (std::size_t k = 0; k < na; ++k) {
-        const auto& hl = active[k]->unit().sphere_hits();
-        const std::vector<SphereRun> none;
-        const auto& runs = keep_pairless ? active[k]->unit().pairless() : none;
-        std::vector<HitEv>& out = per_icc[k];
-        std::size_t hi = 0;
-        for (const SphereRun& r : runs) {
-            for (; hi < hl.size() && hl[hi].sphere < r.first; ++hi)
-                out.push_back({hl[hi].sphere, std::uint32_t(k), hl[hi].rows, hl[hi].cols});
-            for (std::uint32_t s = r.first; s < r.end(); ++s) out.push_back({s, std::uint32_t(k), 0, 0});
-        }
-        for (; hi < hl.size(); ++hi) out.push_back({hl[hi].sphere, std::uint32_t(k), hl[hi].rows, hl[hi].cols});
+    std::vector<Kept> kept(na);
+    std::vector<std::uint64_t> heap;
+    heap.reserve(na);
+    for (std::uint32_t k = 0; k < na; ++k) {
+        kept[k].hits = &active[k]->unit().sphere_hits();
+        kept[k].runs = keep_pairless ? &active[k]->unit().pairless() : nullptr;
+        kept[k].next();
+        if (kept[k].sphere != kNone) heap.push_back(std::uint64_t(kept[k].sphere) << 32 | k);
     }
-    std::vector<HitEv> hits;
-    if (na == 1) {
-        hits = std::move(per_icc[0]);
-    } else {
-        std::size_t total = 0;
-        for (const auto& v : per_icc) total += v.size();
-        hits.reserve(total);
-        using Head = std::pair<std::uint64_t, std::uint32_t>;  // (sphere << 32 | icc, ICC), smallest first
-        std::priority_queue<Head, std::vector<Head>, std::greater<Head>> heads;
-        std::vector<std::size_t> pos(na, 0);
-        for (std::uint32_t k = 0; k < na; ++k)
-            if (!per_icc[k].empty()) heads.push({std::uint64_t(per_icc[k][0].sphere) << 32 | k, k});
-        while (!heads.empty()) {
-            const std::uint32_t k = heads.top().second;
-            heads.pop();
-            hits.push_back(per_icc[k][pos[k]]);
-            if (++pos[k] < per_icc[k].size()) heads.push({std::uint64_t(per_icc[k][pos[k]].sphere) << 32 | k, k});
+    std::make_heap(heap.begin(), heap.end(), std::greater<std::uint64_t>());
+    auto next_kept = [&] { return heap.empty() ? kNone : std::uint32_t(heap.front() >> 32); };
+    // Takes the ICC with the smallest next kept sphere off the heap, moves its cursor on.
+    auto pop_kept = [&](std::uint32_t& k, std::uint64_t& rows, std::uint64_t& cols) {
+        std::pop_heap(heap.begin(), heap.end(), std::greater<std::uint64_t>());
+        k = std::uint32_t(heap.back() & 0xffffffffu);
+        heap.pop_back();
+        Kept& e = kept[k];
+        rows = e.rows;
+        cols = e.cols;
+        e.next();
+        if (e.sphere != kNone) {
+            heap.push_back(std::uint64_t(e.sphere) << 32 | k);
+            std::push_heap(heap.begin(), heap.end(), std::greater<std::uint64_t>());
         }
-    }
-    std::size_t hpos = 0;
+    };
     // ICCs waiting for the triangle stream to reach their head sphere, by its first triangle.
     using Wait = std::pair<std::uint32_t, std::uint32_t>;
     std::priority_queue<Wait, std::vector<Wait>, std::greater<Wait>> waiting;
@@ -303,7 +320,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
             }
             if (s_steady) {
                 d = std::min<std::uint64_t>(d, sphere_link.end() - sp);
-                if (hpos < hits.size()) d = std::min<std::uint64_t>(d, hits[hpos].sphere - rp.output().sphere);
+                if (next_kept() != kNone) d = std::min<std::uint64_t>(d, next_kept() - rp.output().sphere);
             }
             if ((t_flows || t_held) && (s_steady || s_done) && d > 1) {
                 --d;  // the event cycle itself is stepped normally
@@ -390,23 +407,25 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         std::vector<std::uint32_t> diverged;
         if (rp.has_output()) {
             const std::uint32_t x = rp.output().sphere;
-            while (hpos < hits.size() && hits[hpos].sphere < x) ++hpos;
-            for (; hpos < hits.size() && hits[hpos].sphere == x; ++hpos) {
-                const HitEv& h = hits[hpos];
-                if (role[h.icc] != ref) continue;
-                Icc& c = *active[h.icc];
+            std::uint32_t k;
+            std::uint64_t rows, cols;
+            while (next_kept() < x) pop_kept(k, rows, cols);  // (none: each sphere is decided once, in order)
+            while (next_kept() == x) {
+                pop_kept(k, rows, cols);
+                if (role[k] != ref) continue;
+                Icc& c = *active[k];
                 if (c.planeid_fifo.full() || c.first_tri_fifo.full()) {
-                    adopt_reference(h.icc);  // its Decoder holds: from now on it has its own sphere side
-                    role[h.icc] = individual;
+                    adopt_reference(k);  // its Decoder holds: from now on it has its own sphere side
+                    role[k] = individual;
                     --n_ref;
-                    diverged.push_back(h.icc);
+                    diverged.push_back(k);
                     continue;
                 }
                 const bool was_empty = c.first_tri_fifo.empty();
-                c.planeid_fifo.push({h.rows, h.cols});
+                c.planeid_fifo.push({rows, cols});
                 c.first_tri_fifo.push({x, first_tri(x), sphere_memory.peek(x).tri_count});
-                c.decoder.note_hit(!(h.rows && h.cols));
-                if (was_empty) waiting.push({first_tri(x), h.icc});
+                c.decoder.note_hit(!(rows && cols));
+                if (was_empty) waiting.push({first_tri(x), k});
             }
         }
         tick_shared_side(spheres_pending);

@@ -146,14 +146,14 @@ int run_cli(int argc, char** argv) {
     render->add_option("--json", json, "counts and per-phase wall time as JSON");
 
     SceneOptions trace_so;
-    std::string trace_out, trace_json, trace_select = "both";
+    std::string trace_out, trace_json, trace_select = "any";
     auto* trace = app.add_subcommand("trace", "write the profile trace the timing model consumes (docs/TRACE.md)");
     trace_so.add_to(trace);
     trace->add_option("-o,--out", trace_out, "trace file")->required();
     trace->add_option("--triangle-select", trace_select,
-                      "the Triangle Selector reading the trace serves: both (spheres cut by a row and a column plane) "
-                      "or any (also records the spheres cut by row planes only or column planes only, for "
-                      "icc.triangle_select = any; serves both readings)")
+                      "the Triangle Selector reading the trace serves: any (records the spheres cut by row planes "
+                      "only or column planes only too, for icc.triangle_select = any, the default; serves both "
+                      "readings) or both (spheres cut by a row and a column plane only: a smaller trace)")
         ->check(CLI::IsMember({"both", "any"}))
         ->capture_default_str();
     trace->add_option("--json", trace_json, "counts and per-phase wall time as JSON");

@@ -2,7 +2,7 @@
 # Regenerates the generated part of the fuzz seed corpora (run once; the
 # output is checked in): copies of the shipped scenes and configs, the
 # resolved built-in scene and configs as dumped by raplas, and six tiny
-# valid traces (one with pair-less spheres). The OBJ seeds in corpus/fuzz_obj and the regression inputs
+# valid traces (one without pair-less spheres). The OBJ seeds in corpus/fuzz_obj and the regression inputs
 # (inputs that once found a bug) are not generated.
 # Usage: tests/fuzz/make_corpus.sh [path/to/raplas]   (default: build/raplas)
 set -euo pipefail
@@ -22,7 +22,7 @@ done
 
 small=(--set image.width=8 --set image.height=8 --set groups.size=4 --set groups.shadow_size=4 -q)
 "$raplas" trace "${small[@]}" --set builtin_detail=0 --out "$c/fuzz_trace/builtin_8x8_g4.trace"
-"$raplas" trace "${small[@]}" --set builtin_detail=0 --triangle-select any --out "$c/fuzz_trace/builtin_8x8_g4_any.trace"
+"$raplas" trace "${small[@]}" --set builtin_detail=0 --triangle-select both --out "$c/fuzz_trace/builtin_8x8_g4_both.trace"
 "$raplas" trace "${small[@]}" --set builtin_detail=0 --set groups.shadow_size=2 \
   --set spheres.triangles_per_sphere=4 --format float64 --out "$c/fuzz_trace/builtin_8x8_g4_f64.trace"
 "$raplas" trace "${small[@]}" --mesh "$c/fuzz_obj/quad.obj" --format fp1-8-15-rtz \

@@ -113,7 +113,7 @@ bool line_matches(const std::string& want, const std::string& got) {
 class BadInputTable : public ::testing::Test {
 protected:
     fs::path tmp;
-    std::string valid_trace;
+    std::string valid_trace, both_trace;  // the default (any-plane) trace and one for the row-and-column reading
 
     void SetUp() override {
         std::string tmpl = (fs::path(::testing::TempDir()) / "raplas_bad_input_XXXXXX").string();
@@ -126,6 +126,11 @@ protected:
         ASSERT_EQ(r.code, 0) << r.err;
         valid_trace = slurp(d / "valid.trace");
         ASSERT_GT(valid_trace.size(), 32u);
+        const Outcome b = run_in_child(d, {"trace", "-q", "-o", "both.trace", "--triangle-select", "both", "--set",
+                                           "image.width=8", "--set", "image.height=8", "--set", "builtin_detail=0"},
+                                       {});
+        ASSERT_EQ(b.code, 0) << b.err;
+        both_trace = slurp(d / "both.trace");
     }
     void TearDown() override {
         std::error_code ec;
@@ -155,6 +160,7 @@ protected:
             else if (kind == "edited") data[data.size() / 2] = char(data[data.size() / 2] ^ 1);
             else if (kind == "truncated") data.resize(data.size() / 2);
             else if (kind == "appended") data += "\n";
+            else if (kind == "both") data = both_trace;
             else ASSERT_EQ(kind, "valid") << "unknown trace kind";
         }
         std::ofstream(p, std::ios::binary) << data;

@@ -81,7 +81,8 @@ namespace {
 TEST(MachineChoicesConfig, ReadingsEmptyCyclesOverlapAndPlaneIdDepth) {
     using raplas::model::TriangleSelect;
     const auto d = config_with({});
-    EXPECT_EQ(d.icc.decoder.select, TriangleSelect::both);
+    EXPECT_EQ(d.icc.decoder.select, TriangleSelect::any);  // the paper's §4 (docs/MODEL.md §3)
+    EXPECT_EQ(config_with({"icc.triangle_select=both"}).icc.decoder.select, TriangleSelect::both);
     EXPECT_EQ(d.icc.fetcher.empty_cycles, 1u);
     EXPECT_FALSE(d.overlap_passes);
     EXPECT_EQ(d.icc.planeid_fifo.depth, 1000u);
