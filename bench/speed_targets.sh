@@ -10,17 +10,24 @@
 #   3. (--big) conference at 256 ICCs and 512x512 pixels: wall time and peak
 #      memory (/usr/bin/time -v), about 15 minutes on 2 cores.
 # The front end against Embree is bench/bench_frontend.cpp (see PERFORMANCE.md).
-#   bench/speed_targets.sh [--big] [build/raplas]
+# --reading both|any: the Triangle Selector reading (icc.triangle_select;
+# default: the config's, any).
+#   bench/speed_targets.sh [--big] [--reading both|any] [build/raplas]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 big=0
 raplas=build/raplas
-for a in "$@"; do
-  case $a in
+reading=any
+while [[ $# -gt 0 ]]; do
+  case $1 in
     --big) big=1 ;;
-    *) raplas=$a ;;
+    --reading) reading=$2; shift ;;
+    *) raplas=$1 ;;
   esac
+  shift
 done
+sel=(--set "icc.triangle_select=$reading")
+echo "reading: $reading"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 load() { cut -d' ' -f1 /proc/loadavg; }
@@ -32,7 +39,7 @@ echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -
 l0=$(load)
 start=$(date +%s.%N)
 "$raplas" sweep --scene scenes/bunny.toml --scene scenes/sportscar.toml --scene scenes/conference.toml \
-  --config paper --iccs 1,4,16,32,48 --fifo 10,100,1000 --set sim.functional=trace \
+  --config paper --iccs 1,4,16,32,48 --fifo 10,100,1000 --set sim.functional=trace "${sel[@]}" \
   --out "$work/paper.csv" >/dev/null 2>&1
 end=$(date +%s.%N)
 echo "paper sweep (45 points, front end included): $(python3 -c "print(f'{$end - $start:.1f}')") s wall" \
@@ -40,12 +47,12 @@ echo "paper sweep (45 points, front end included): $(python3 -c "print(f'{$end -
 
 # 2. timing model speed at 48 ICCs
 for scene in bunny conference; do
-  "$raplas" trace --scene scenes/$scene.toml --out "$work/$scene.trace" -q
+  "$raplas" trace --scene scenes/$scene.toml --triangle-select "$reading" --out "$work/$scene.trace" -q
   for fm in trace compute; do
     best=0
     for rep in 1 2 3; do
       "$raplas" simulate --trace "$work/$scene.trace" --config paper --iccs 48 --fifo 1000 \
-        --set sim.functional=$fm --json "$work/s.json" -q
+        --set sim.functional=$fm "${sel[@]}" --json "$work/s.json" -q
       v=$(json "$work/s.json" "d['wall']['sim_icc_cycles_per_second']")
       best=$(python3 -c "print(max($best, $v))")
     done
@@ -57,7 +64,7 @@ done
 # 3. conference at 256 ICCs, 512 x 512
 if [[ $big == 1 ]]; then
   l0=$(load)
-  /usr/bin/time -v "$raplas" simulate --scene scenes/conference.toml --set image.width=512 \
+  /usr/bin/time -v "$raplas" simulate --scene scenes/conference.toml "${sel[@]}" --set image.width=512 \
     --set image.height=512 --config paper --iccs 256 --fifo 1000 --set sim.functional=trace \
     --json "$work/big.json" -q 2>"$work/time.txt"
   rss=$(awk -F: '/Maximum resident/ {print $2}' "$work/time.txt" | xargs)

@@ -22,10 +22,14 @@ import sys
 import tempfile
 
 
+READING = ["any"]
+
+
 def simulate(raplas, trace, iccs, fifo, extra, tmp):
     out = os.path.join(tmp, "sim.json")
     subprocess.run([raplas, "simulate", "--trace", trace, "--config", "paper", "--iccs", str(iccs),
-                    "--fifo", str(fifo), "--set", "sim.functional=trace", *extra, "--json", out, "-q"],
+                    "--fifo", str(fifo), "--set", "sim.functional=trace", "--set", f"icc.triangle_select={READING[0]}",
+                    *extra, "--json", out, "-q"],
                    check=True)
     return json.load(open(out))
 
@@ -39,7 +43,10 @@ def main():
     ap.add_argument("--fifo", default="10,1000")
     ap.add_argument("--fractions", default="0.05,0.1,0.25")
     ap.add_argument("--seeds", default="1,2,3")
+    ap.add_argument("--reading", choices=["both", "any"], default="any",
+                    help="Triangle Selector reading, icc.triangle_select (docs/results/estimate_error.* were made with both)")
     a = ap.parse_args()
+    READING[0] = a.reading
     scenes = a.scene or ["scenes/bunny.toml", "scenes/sportscar.toml", "scenes/conference.toml"]
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
