@@ -15,7 +15,7 @@
 //     each selected triangle is scheduled (and tested) once, when selected.
 //     Only the Triangle FIFO's occupancy is visible to the link.
 //  3. An ICC is therefore touched only when the Decoder releases one of its
-//     hit spheres, when the triangle stream reaches its pending spheres'
+//     kept spheres, when the triangle stream reaches its pending spheres'
 //     triangles, and while its Triangle FIFO is full. When none of that
 //     happens and the shared pipeline streams steadily (a sphere in and a
 //     decision out every cycle), nothing but the stream positions changes
