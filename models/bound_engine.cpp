@@ -66,75 +66,26 @@ std::uint64_t Top::run_pass_bound(const Host::Pass& p) {
     const std::uint32_t empty_cycles = cfg_.icc.fetcher.empty_cycles;
     const bool keep_pairless = cfg_.icc.decoder.select == TriangleSelect::any;
     std::uint64_t end_cycle = std::max<std::uint64_t>(b.spheres_sent_by, b.tri_cycle.empty() ? 0 : b.tri_cycle.back() + 1);
-    // Each ICC's Ray Data Fetcher and RTI: next free issue cycle and the pipes
-    // used in it; `done`, the last cycle the back end is busy. Empty at the
-    // start of a pass, or (overlapped passes) what the previous pass left.
+    // Each ICC's Ray Data Fetcher and RTI as a work-conserving queue: empty at
+    // the start of a pass, or (overlapped passes) what the previous pass left.
     std::vector<EventBack>& backs = event_back_;
     if (!cfg_.overlap_passes || backs.size() != iccs.size()) backs.assign(iccs.size(), EventBack{});
     std::uint64_t prev_done = 0;
     for (const EventBack& e : backs) prev_done = std::max(prev_done, e.done);
     std::uint64_t all_done = prev_done;
     for (std::uint32_t gi = p.begin; gi < p.end; ++gi) {
-        EventBack& back = backs[gi - p.begin];
-        std::uint64_t& next_cyc = back.next_cyc;
-        std::uint64_t& done = back.done;
-        std::uint32_t& next_used = back.next_used;
-        bool& any = back.any;
-        auto sphere = [&](std::uint32_t s, std::uint64_t m) {
-            for (std::uint32_t tri = trace_.first_tri[s]; tri < trace_.first_tri[s] + trace_.tri_count[s]; ++tri) {
-                std::uint64_t start = b.tri_cycle[tri] + 1;
-                std::uint32_t used = 0;
-                if (any && next_cyc >= start) {
-                    start = next_cyc;
-                    used = next_used;
-                }
-                if (used == pipes) {
-                    ++start;
-                    used = 0;
-                }
-                any = true;
-                if (m == 0) {  // no pair: empty_cycles cycles of the Fetcher, counting its first
-                    if (empty_cycles == 0) {
-                        next_cyc = start;
-                        next_used = used;
-                        done = std::max(done, start);
-                    } else {
-                        next_cyc = start + empty_cycles - 1;
-                        next_used = pipes;
-                        done = std::max(done, next_cyc);
-                    }
-                    continue;
-                }
-                const std::uint64_t total = used + m;
-                next_cyc = start + (total - 1) / pipes;
-                next_used = std::uint32_t((total - 1) % pipes + 1);
-                done = next_cyc + stages;  // the last result leaves the RTI
-            }
-        };
-        // The spheres the Decoder queues, in stream order: the hit spheres
-        // and, under icc.triangle_select = any, the pair-less ones.
+        FetcherQueue& back = backs[gi - p.begin];
+        // The spheres the Decoder queues, in stream order; each triangle is
+        // selected in the cycle it is sent.
         const TraceGroup& g = trace_.groups[gi];
-        std::size_t r = 0;
-        std::uint32_t in_run = 0;  // next sphere of run r
-        auto pairless_before = [&](std::uint32_t limit) {
-            for (; keep_pairless && r < g.pairless.size(); ++r) {
-                const SphereRun& run = g.pairless[r];
-                for (std::uint32_t s = std::max(run.first, in_run); s < run.end(); ++s) {
-                    if (s >= limit) {
-                        in_run = s;
-                        return;
-                    }
-                    sphere(s, 0);
-                }
-                in_run = 0;
-            }
-        };
-        for (const SphereHitRec& h : g.sphere_hits) {
-            pairless_before(h.sphere);
-            sphere(h.sphere, std::uint64_t(__builtin_popcountll(h.rows)) * std::uint64_t(__builtin_popcountll(h.cols)));
+        KeptSpheres kept(g.sphere_hits, keep_pairless ? &g.pairless : nullptr);
+        while (kept.next()) {
+            const std::uint64_t m = std::uint64_t(__builtin_popcountll(kept.rows)) * std::uint64_t(__builtin_popcountll(kept.cols));
+            const std::uint32_t first = trace_.first_tri[kept.sphere];
+            for (std::uint32_t tri = first; tri < first + trace_.tri_count[kept.sphere]; ++tri)
+                back.take(b.tri_cycle[tri], m, pipes, stages, empty_cycles);
         }
-        pairless_before(~std::uint32_t(0));
-        all_done = std::max(all_done, done);
+        all_done = std::max(all_done, back.done);
     }
     // The pass ends when its streams are done and its work (or, overlapped,
     // the previous pass's) has left the RTIs.

@@ -11,6 +11,9 @@
 // waits on.
 #pragma once
 
+#include <algorithm>
+#include <vector>
+
 #include "fifo.hpp"
 #include "plane_sphere_intersector.hpp"
 
@@ -29,6 +32,45 @@ enum class TriangleSelect { both, any };
 inline bool queued(const PsiResult& r, TriangleSelect sel) {
     return (r.rows && r.cols) || (sel == TriangleSelect::any && r.cut);
 }
+
+// The spheres a Decoder keeps for a group, in stream order: the hit spheres
+// (with their masks) merged with, under the any-plane reading, the runs of
+// pair-less spheres (masks 0). next() moves to the next one; false at the end.
+class KeptSpheres {
+public:
+    KeptSpheres() = default;
+    // runs: null under the row-and-column reading
+    KeptSpheres(const std::vector<SphereHitRec>& hits, const std::vector<SphereRun>* runs) : hits_(&hits), runs_(runs) {}
+    bool next() {
+        const std::uint32_t hs = hi_ < hits_->size() ? (*hits_)[hi_].sphere : kNone;
+        const std::uint32_t rs = runs_ && ri_ < runs_->size() ? std::max((*runs_)[ri_].first, in_run_) : kNone;
+        if (hs == kNone && rs == kNone) return false;
+        if (hs < rs) {
+            sphere = hs;
+            rows = (*hits_)[hi_].rows;
+            cols = (*hits_)[hi_].cols;
+            ++hi_;
+        } else {
+            sphere = rs;
+            rows = cols = 0;
+            in_run_ = rs + 1;
+            if (in_run_ >= (*runs_)[ri_].end()) {
+                ++ri_;
+                in_run_ = 0;
+            }
+        }
+        return true;
+    }
+    std::uint32_t sphere = 0;
+    std::uint64_t rows = 0, cols = 0;
+
+private:
+    static constexpr std::uint32_t kNone = ~std::uint32_t(0);
+    const std::vector<SphereHitRec>* hits_ = nullptr;
+    const std::vector<SphereRun>* runs_ = nullptr;
+    std::size_t hi_ = 0, ri_ = 0;
+    std::uint32_t in_run_ = 0;  // next sphere of run ri_, when past its first
+};
 
 class Decoder : public sc_core::sc_module {
 public:

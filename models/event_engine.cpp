@@ -83,44 +83,13 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     // ICC's are read through a cursor over its two lists; a heap orders the
     // ICCs by their next kept sphere (key: sphere << 32 | ICC).
     constexpr std::uint32_t kNone = ~std::uint32_t(0);
-    struct Kept {
-        const std::vector<SphereHitRec>* hits = nullptr;
-        const std::vector<SphereRun>* runs = nullptr;  // null: the row-and-column reading
-        std::size_t hi = 0, ri = 0;
-        std::uint32_t in_run = 0;  // next sphere of run ri, when past its first
-        std::uint32_t sphere = ~std::uint32_t(0);
-        std::uint64_t rows = 0, cols = 0;
-        void next() {  // the next kept sphere, or sphere = kNone
-            const std::uint32_t none = ~std::uint32_t(0);
-            const std::uint32_t hs = hi < hits->size() ? (*hits)[hi].sphere : none;
-            const std::uint32_t rs = runs && ri < runs->size() ? std::max((*runs)[ri].first, in_run) : none;
-            if (hs == none && rs == none) {
-                sphere = none;
-            } else if (hs < rs) {
-                sphere = hs;
-                rows = (*hits)[hi].rows;
-                cols = (*hits)[hi].cols;
-                ++hi;
-            } else {
-                sphere = rs;
-                rows = cols = 0;
-                in_run = rs + 1;
-                if (in_run >= (*runs)[ri].end()) {
-                    ++ri;
-                    in_run = 0;
-                }
-            }
-        }
-    };
     const bool keep_pairless = cfg_.icc.decoder.select == TriangleSelect::any;
-    std::vector<Kept> kept(na);
+    std::vector<KeptSpheres> kept(na);
     std::vector<std::uint64_t> heap;
     heap.reserve(na);
     for (std::uint32_t k = 0; k < na; ++k) {
-        kept[k].hits = &active[k]->unit().sphere_hits();
-        kept[k].runs = keep_pairless ? &active[k]->unit().pairless() : nullptr;
-        kept[k].next();
-        if (kept[k].sphere != kNone) heap.push_back(std::uint64_t(kept[k].sphere) << 32 | k);
+        kept[k] = KeptSpheres(active[k]->unit().sphere_hits(), keep_pairless ? &active[k]->unit().pairless() : nullptr);
+        if (kept[k].next()) heap.push_back(std::uint64_t(kept[k].sphere) << 32 | k);
     }
     std::make_heap(heap.begin(), heap.end(), std::greater<std::uint64_t>());
     auto next_kept = [&] { return heap.empty() ? kNone : std::uint32_t(heap.front() >> 32); };
@@ -129,11 +98,10 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         std::pop_heap(heap.begin(), heap.end(), std::greater<std::uint64_t>());
         k = std::uint32_t(heap.back() & 0xffffffffu);
         heap.pop_back();
-        Kept& e = kept[k];
+        KeptSpheres& e = kept[k];
         rows = e.rows;
         cols = e.cols;
-        e.next();
-        if (e.sphere != kNone) {
+        if (e.next()) {
             heap.push_back(std::uint64_t(e.sphere) << 32 | k);
             std::push_heap(heap.begin(), heap.end(), std::greater<std::uint64_t>());
         }
@@ -190,43 +158,9 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
             max_done = kNever;
             return;
         }
-        std::uint64_t start = c + 1;
-        std::uint32_t used = 0;
-        if (b.any && b.next_cyc >= start) {
-            start = b.next_cyc;
-            used = b.next_used;
-            if (used == rti_pipes) {
-                ++start;
-                used = 0;
-            }
-        }
-        if (m == 0) {
-            // No pair: popped at the free slot, it holds the Fetcher for
-            // empty_cycles cycles counting that one (to the end of it, so
-            // the next triangle starts a cycle later), or costs nothing.
-            if (used == rti_pipes) {
-                ++start;
-                used = 0;
-            }
-            b.any = true;
-            if (rdf_empty == 0) {
-                b.next_cyc = start;
-                b.next_used = used;
-                b.done = std::max(b.done, start);
-            } else {
-                b.next_cyc = start + rdf_empty - 1;
-                b.next_used = rti_pipes;
-                b.done = std::max(b.done, b.next_cyc);
-            }
-        } else {
-            const std::uint64_t total = used + m;
-            const std::uint64_t end = start + (total - 1) / rti_pipes;
-            b.next_cyc = end;
-            b.next_used = std::uint32_t((total - 1) % rti_pipes + 1);
-            b.any = true;
-            b.done = end + rti_stages;
-            icc.rti.account(m, 0, (end - start + 1) - (used > 0 ? 1 : 0));
-        }
+        const FetcherQueue::Slot slot = b.take(c, m, rti_pipes, rti_stages, rdf_empty);
+        const std::uint64_t start = slot.pop;
+        icc.rti.account(m, 0, slot.busy);
         max_done = std::max(max_done, b.done);
         b.starts.push_back(start);
         icc.triangle_fifo.record_push(std::uint32_t(b.starts.size()));

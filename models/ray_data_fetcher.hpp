@@ -8,11 +8,63 @@
 // issued; with 0 it is dropped at no cost (docs/MODEL.md §3).
 #pragma once
 
+#include <algorithm>
+
 #include "fifo.hpp"
 #include "ray_triangle_intersector.hpp"
 #include "triangle_selector.hpp"
 
 namespace raplas::model {
+
+// The Ray Data Fetcher and RTI of one ICC in closed form, as a
+// work-conserving queue (event mode, fifo_bound): a triangle selected in
+// cycle c with m pairs is popped at the first free issue slot from c + 1 on
+// and issues its pairs `pipes` per cycle, back to back with the triangle
+// before; its last result leaves the RTI `rti_stages` cycles after its last
+// pair. A triangle with no pair holds the Fetcher `empty_cycles` cycles
+// counting its first (0: it takes no slot), as RayDataFetcher::tick does.
+struct FetcherQueue {
+    std::uint64_t next_cyc = 0;  // the next free issue slot: cycle and pipes used in it
+    std::uint32_t next_used = 0;
+    bool any = false;            // (false: free from the first cycle on)
+    std::uint64_t done = 0;      // the last cycle the back end is busy
+    struct Slot {
+        std::uint64_t pop;   // the cycle the triangle leaves the Triangle FIFO
+        std::uint64_t busy;  // RTI cycles with a pair entering that it adds
+    };
+    Slot take(std::uint64_t c, std::uint64_t m, std::uint32_t pipes, std::uint32_t rti_stages,
+              std::uint32_t empty_cycles) {
+        std::uint64_t start = c + 1;
+        std::uint32_t used = 0;
+        if (any && next_cyc >= start) {
+            start = next_cyc;
+            used = next_used;
+        }
+        if (used == pipes) {
+            ++start;
+            used = 0;
+        }
+        any = true;
+        if (m == 0) {
+            if (empty_cycles == 0) {
+                next_cyc = start;
+                next_used = used;
+                done = std::max(done, start);
+            } else {  // to the end of its last cycle: the next triangle starts a cycle later
+                next_cyc = start + empty_cycles - 1;
+                next_used = pipes;
+                done = std::max(done, next_cyc);
+            }
+            return {start, 0};
+        }
+        const std::uint64_t total = used + m;
+        const std::uint64_t end = start + (total - 1) / pipes;
+        next_cyc = end;
+        next_used = std::uint32_t((total - 1) % pipes + 1);
+        done = end + rti_stages;
+        return {start, (end - start + 1) - (used > 0 ? 1 : 0)};
+    }
+};
 
 class RayDataFetcher : public sc_core::sc_module {
 public:

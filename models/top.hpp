@@ -139,17 +139,12 @@ private:
     std::unique_ptr<Fifo<PlaneIdEntry>> ref_planeid_;
     std::unique_ptr<Fifo<FirstTriEntry>> ref_first_tri_;
     std::vector<SphereHitRec> no_hits_;
-    // Event mode: an ICC's back end as a work-conserving queue, in the
-    // current pass's cycles: the pop cycles of the triangles still in its
-    // Triangle FIFO, the next free RTI issue slot (cycle and pipes used in
-    // it), and the last cycle it is busy. Kept from pass to pass when passes
+    // Event mode and fifo_bound: an ICC's back end as a work-conserving queue
+    // (FetcherQueue), in the current pass's cycles, with the pop cycles of the
+    // triangles still in its Triangle FIFO. Kept from pass to pass when passes
     // overlap, moved to the next pass's cycles by shift_back.
-    struct EventBack {
+    struct EventBack : FetcherQueue {
         std::deque<std::uint64_t> starts;
-        std::uint64_t next_cyc = 0;
-        std::uint32_t next_used = 0;
-        bool any = false;
-        std::uint64_t done = 0;
     };
     std::vector<EventBack> event_back_;
     static void shift_back(EventBack& b, std::uint64_t by);
