@@ -40,12 +40,6 @@ std::uint64_t group_rti_cycles(const GroupWork& w, const SimConfig& cfg) {
     return (w.rt_tests + pipes - 1) / pipes + w.pairless_triangles * cfg.icc.fetcher.empty_cycles;
 }
 
-void check_trace_reading(const Trace& t, const SimConfig& cfg, const std::string& name) {
-    if (cfg.icc.decoder.select == TriangleSelect::any && !t.pairless)
-        throw InputError(name + ": made for icc.triangle_select = both, it carries no pair-less spheres; "
-                                "icc.triangle_select = any needs a trace from 'raplas trace --triangle-select any'");
-}
-
 std::uint64_t list_schedule_makespan(const std::vector<std::uint64_t>& durations, std::uint32_t iccs) {
     // (time the ICC is free, ICC index), smallest first.
     using Slot = std::pair<std::uint64_t, std::uint32_t>;

@@ -31,9 +31,6 @@ std::vector<GroupWork> group_work(const Trace& t, TriangleSelect select = Triang
 // the streaming machine's PE bound): its tests over the pipes, plus
 // icc.rdf_empty_cycles for each triangle with no pair.
 std::uint64_t group_rti_cycles(const GroupWork& w, const SimConfig& cfg);
-// Throws InputError when the trace cannot serve the configured reading
-// (icc.triangle_select = any needs the pair-less spheres).
-void check_trace_reading(const Trace& t, const SimConfig& cfg, const std::string& name = "the trace");
 
 // Greedy list scheduling in issue order: each job goes to the ICC that is free
 // first (ties: lowest index); returns the time the last job ends.

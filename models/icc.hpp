@@ -104,7 +104,6 @@ public:
     }
     void add_idle(std::uint64_t cycles) { stats_.idle_cycles += cycles; }
     const TraceGroup* group() const { return group_; }
-    std::uint8_t buffer() const { return buf_; }
 
     bool sphere_ready() const { return sphere_selector.ready(active(), sphere_fifo); }
     void note_sphere_blocked() { sphere_selector.note_blocked(sphere_fifo); }

@@ -388,14 +388,18 @@ void Top::run_passes(const std::vector<Host::Pass>& passes) {
     if (chosen.size() < passes.size()) extrapolate(passes);
 }
 
+void check_trace_reading(const Trace& t, const SimConfig& cfg, const std::string& name) {
+    if (cfg.icc.decoder.select == TriangleSelect::any && !t.pairless)
+        throw InputError(name + ": made for icc.triangle_select = both, it carries no pair-less spheres; "
+                                "icc.triangle_select = any needs a trace from 'raplas trace --triangle-select any'");
+}
+
 SimResult simulate(const Trace& trace, const SimConfig& cfg, const SimOptions& opt) {
     sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
     // fifo_bound reads the sphere hits from the trace and tests nothing.
     const bool bound = cfg.estimate == Estimate::fifo_bound;
     const bool pairless = cfg.icc.decoder.select == TriangleSelect::any;
-    if (pairless && !trace.pairless)
-        throw InputError("icc.triangle_select = any needs a trace that carries the pair-less spheres "
-                         "('raplas trace --triangle-select any')");
+    check_trace_reading(trace, cfg);
     auto functional =
         Functional::create(trace, cfg.format, bound ? FunctionalMode::trace : cfg.functional, cfg.cull, pairless);
     auto top = std::make_unique<Top>("raplas", cfg, trace, *functional, opt);

@@ -165,6 +165,10 @@ private:
     const BoundSchedule& bound_schedule(std::uint32_t n);
 };
 
+// Throws InputError when the trace cannot serve the configured reading
+// (icc.triangle_select = any needs the pair-less spheres).
+void check_trace_reading(const Trace& t, const SimConfig& cfg, const std::string& name = "the trace");
+
 // Runs one simulation in this process (SystemC allows one per process).
 // Throws InputError for a configuration that cannot run before it starts; a
 // run the watchdog stops returns with SimResult::error set.
