@@ -27,6 +27,8 @@ struct FirstTriEntry {
 };
 
 enum class TriangleSelect { both, any };
+// Its name in configs, traces (--triangle-select) and reports.
+inline const char* triangle_select_name(TriangleSelect s) { return s == TriangleSelect::any ? "any" : "both"; }
 
 // Does the Decoder queue this PSI result under reading `sel`?
 inline bool queued(const PsiResult& r, TriangleSelect sel) {

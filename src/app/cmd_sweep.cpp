@@ -236,7 +236,7 @@ Sweep make_sweep(const SweepArgs& a, const std::string& wd) {
     }
     const model::SimConfig cfg = model::config_from_params(mp);
     sw.format = cfg.format.name();
-    sw.triangle_select = cfg.icc.decoder.select == model::TriangleSelect::any ? "any" : "both";
+    sw.triangle_select = model::triangle_select_name(cfg.icc.decoder.select);
     sw.trace_sets = sw.scene_sets;
     if (cfg.group_size) sw.trace_sets.push_back("groups.size=" + std::to_string(cfg.group_size));
     if (cfg.shadow_group_size) sw.trace_sets.push_back("groups.shadow_size=" + std::to_string(cfg.shadow_group_size));

@@ -79,7 +79,7 @@ nlohmann::json sim_json(const SimReportInput& in) {
                        {"planeid", c.icc.planeid_fifo.depth}};
     j["format"] = c.format.name();
     const bool any = c.icc.decoder.select == model::TriangleSelect::any;
-    j["triangle_select"] = any ? "any" : "both";
+    j["triangle_select"] = model::triangle_select_name(c.icc.decoder.select);
     j["rdf_empty_cycles"] = c.icc.fetcher.empty_cycles;
     j["overlap_passes"] = c.overlap_passes;
     j["clock_mhz"] = c.clock_mhz;
