@@ -124,9 +124,11 @@ ParamSet machine_params() {
     add_memory_system_params(p);
     p.add_string("sim.fault", std::string("none"),
                  "fault injection, to provoke the watchdog: stuck_rti = ICC sim.fault_icc's Ray-Triangle "
-                 "Intersector takes no pair; stuck_psi = its Plane-Sphere Intersector takes no sphere",
-                 {"none", "stuck_rti", "stuck_psi"});
-    p.add_int("sim.fault_icc", 0, 0, 4095, "the ICC sim.fault applies to (it must have a group to stall)");
+                 "Intersector takes no pair; stuck_psi = its Plane-Sphere Intersector takes no sphere; or the "
+                 "functional check: wrong_rti = the first ray-triangle test of that ICC that misses reports a "
+                 "hit at distance 0 (needs sim.functional = compute)",
+                 {"none", "stuck_rti", "stuck_psi", "wrong_rti"});
+    p.add_int("sim.fault_icc", 0, 0, 4095, "the ICC sim.fault applies to (it must have a group to stall or test)");
     return p;
 }
 
@@ -204,11 +206,18 @@ SimConfig config_from_params(const ParamSet& p) {
     c.watchdog_cycles = std::uint64_t(p.get_int("sim.watchdog_cycles"));
     memory_system_from_params(p, c);
     const std::string fault = p.get_string("sim.fault");
-    c.fault = fault == "stuck_rti" ? Fault::stuck_rti : fault == "stuck_psi" ? Fault::stuck_psi : Fault::none;
+    c.fault = fault == "stuck_rti"   ? Fault::stuck_rti
+              : fault == "stuck_psi" ? Fault::stuck_psi
+              : fault == "wrong_rti" ? Fault::wrong_rti
+                                     : Fault::none;
     c.fault_icc = std::uint32_t(p.get_int("sim.fault_icc"));
     if (c.estimate == Estimate::fifo_bound && c.fault != Fault::none)
         throw InputError(p.origin("sim.fault") + ": sim.fault = " + fault +
                          " needs a simulation, but sim.estimate = fifo_bound computes the cycles in closed form");
+    if (c.fault == Fault::wrong_rti && c.functional != FunctionalMode::compute)
+        throw InputError(p.origin("sim.fault") +
+                         ": sim.fault = wrong_rti needs sim.functional = compute (the trace mode takes its answers "
+                         "from the trace and checks none)");
     if (c.overlap_passes && c.estimate == Estimate::sample_passes)
         throw InputError(p.origin("host.overlap_passes") +
                          ": overlapped passes depend on the pass before them, but sim.estimate = sample_passes "

@@ -1,5 +1,7 @@
 #include "functional.hpp"
 
+#include <memory>
+#include <utility>
 #include <vector>
 
 #include "raplas/core/cull.hpp"
@@ -80,7 +82,31 @@ public:
     std::unique_ptr<GroupUnit> make_unit() const override { return std::make_unique<Unit>(); }
 };
 
+class WrongRtiUnit final : public GroupUnit {
+public:
+    WrongRtiUnit(std::unique_ptr<GroupUnit> inner, std::shared_ptr<bool> fired)
+        : inner_(std::move(inner)), fired_(std::move(fired)) {}
+    void load(const TraceGroup& g) override { inner_->load(g); }
+    const std::vector<SphereHitRec>& sphere_hits() const override { return inner_->sphere_hits(); }
+    const std::vector<SphereRun>& pairless() const override { return inner_->pairless(); }
+    bool rti(std::uint32_t ray, std::uint32_t tri, double& t) override {
+        if (inner_->rti(ray, tri, t)) return true;
+        if (*fired_) return false;
+        *fired_ = true;
+        t = 0.0;
+        return true;
+    }
+
+private:
+    std::unique_ptr<GroupUnit> inner_;
+    std::shared_ptr<bool> fired_;
+};
+
 }  // namespace
+
+std::unique_ptr<GroupUnit> with_wrong_rti(std::unique_ptr<GroupUnit> inner, std::shared_ptr<bool> fired) {
+    return std::make_unique<WrongRtiUnit>(std::move(inner), std::move(fired));
+}
 
 std::unique_ptr<Functional> Functional::create(const Trace& t, const NumFormat& format, FunctionalMode mode, bool cull,
                                                bool pairless) {

@@ -25,6 +25,11 @@ public:
     virtual bool rti(std::uint32_t ray, std::uint32_t tri, double& t) = 0;
 };
 
+// Fault injection (sim.fault = wrong_rti): `inner` with one wrong answer. The
+// first ray-triangle test that misses, in this unit or any other sharing
+// `fired`, reports a hit at distance 0 instead; every other call is inner's.
+std::unique_ptr<GroupUnit> with_wrong_rti(std::unique_ptr<GroupUnit> inner, std::shared_ptr<bool> fired);
+
 enum class FunctionalMode { compute, trace };
 
 // Shared, read-only: the scene's spheres and triangles converted to the format.

@@ -103,6 +103,12 @@ public:
         loaded_[buf] = g;
     }
     void add_idle(std::uint64_t cycles) { stats_.idle_cycles += cycles; }
+    // Fault injection (sim.fault = wrong_rti): one wrong ray-triangle answer
+    // in this ICC, whichever buffer's group meets it first.
+    void inject_wrong_rti() {
+        auto fired = std::make_shared<bool>(false);
+        for (auto& u : units_) u = with_wrong_rti(std::move(u), fired);
+    }
     const TraceGroup* group() const { return group_; }
 
     bool sphere_ready() const { return sphere_selector.ready(active(), sphere_fifo); }

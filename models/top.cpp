@@ -39,6 +39,7 @@ Top::Top(sc_core::sc_module_name n, const SimConfig& cfg, const Trace& trace, co
     iccs.init(cfg.iccs, [&](const char* name, std::size_t) { return new Icc(name, cfg.icc, f); });
     if (cfg.fault == Fault::stuck_rti) iccs[cfg.fault_icc].rti.set_stuck(true);
     if (cfg.fault == Fault::stuck_psi) iccs[cfg.fault_icc].psi.set_stuck(true);
+    if (cfg.fault == Fault::wrong_rti) iccs[cfg.fault_icc].inject_wrong_rti();
     std::vector<SphereRecord> srec(trace.spheres.size());
     std::vector<std::uint32_t> sphere_of(trace.triangles.size());
     for (std::size_t s = 0; s < trace.spheres.size(); ++s) {
@@ -269,7 +270,11 @@ void Top::check_pass(const Host::Pass& p, std::uint8_t buf) {
             for (std::uint32_t h = 0; h < g.n; ++h) {
                 if (!g.ray_valid(h, v)) continue;
                 ++result_.rays_checked;
-                if (hits[v * g.n + h] != g.hits[v * g.n + h]) ++result_.rays_mismatched;
+                const Hit& mine = hits[v * g.n + h];
+                if (mine == g.hits[v * g.n + h]) continue;
+                ++result_.rays_mismatched;
+                if (!result_.first_mismatch)
+                    result_.first_mismatch = SimResult::Mismatch{p.begin + k, h, v, mine, g.hits[v * g.n + h]};
             }
     }
 }

@@ -6,6 +6,7 @@
 #include <deque>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,13 @@ struct SimResult {
     bool functional_checked = false;
     bool functional_match = false;
     std::uint64_t rays_checked = 0, rays_mismatched = 0;
+    // The first ray, in pass order, whose model hit differs from the front end's.
+    struct Mismatch {
+        std::size_t group = 0;    // index in the trace
+        std::uint32_t h = 0, v = 0;  // the ray in its group
+        Hit model, frontend;
+    };
+    std::optional<Mismatch> first_mismatch;
     double model_wall_s = 0;  // wall time of the timing model alone
     // Why the simulation stopped early ("watchdog: ..." or an error inside the
     // model); empty when it finished. Reported here rather than thrown: under

@@ -8,6 +8,7 @@ const char* fault_name(Fault f) {
     switch (f) {
         case Fault::stuck_rti: return "stuck_rti";
         case Fault::stuck_psi: return "stuck_psi";
+        case Fault::wrong_rti: return "wrong_rti";
         case Fault::none: break;
     }
     return "none";

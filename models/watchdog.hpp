@@ -11,8 +11,9 @@
 namespace raplas::model {
 
 // Fault injection (sim.fault): makes one block of one ICC stop making
-// progress, to provoke the watchdog. Off by default.
-enum class Fault { none, stuck_rti, stuck_psi };
+// progress, to provoke the watchdog (stuck_*), or gives one wrong answer, to
+// provoke the functional check (wrong_rti). Off by default.
+enum class Fault { none, stuck_rti, stuck_psi, wrong_rti };
 
 const char* fault_name(Fault f);
 

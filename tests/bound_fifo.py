@@ -18,7 +18,7 @@ import subprocess
 import sys
 import tempfile
 
-from small_scenes import small_scenes
+from testlib import finish, small_scenes
 
 raplas, root = sys.argv[1], os.path.abspath(sys.argv[2])
 # configurations per scene: 4; the sanitizer build passes fewer (tests/CMakeLists.txt)
@@ -101,4 +101,4 @@ with tempfile.TemporaryDirectory() as tmp:
         check(cells.get("estimate") == est, f"CSV estimate column: {cells.get('estimate')} for sim.estimate={est}")
 
 print(f"{checks - failures}/{checks} checks passed")
-sys.exit(1 if failures else 0)
+finish(failures)

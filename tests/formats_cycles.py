@@ -12,6 +12,8 @@ import subprocess
 import sys
 import tempfile
 
+from testlib import json_diff
+
 raplas = sys.argv[1]
 SCENE = ["--config", "paper", "--set", "image.width=16", "--set", "image.height=16", "--set", "workload.group_size=8",
          "--set", "workload.shadow_group_size=4", "--set", "builtin_detail=2"]
@@ -28,16 +30,6 @@ RUNS = {  # name -> extra options
     "fp1-7-16-wt": ["--set", "numerics.format=fp1-7-16-wt"],
 }
 SKIP = {"wall", "sim_cycles_per_second", "sim_icc_cycles_per_second", "format", "hits"}  # hits: RTI results
-
-
-def diff(a, b, path=""):
-    if isinstance(a, dict):
-        return [d for k in a if k not in SKIP for d in diff(a[k], b.get(k), f"{path}/{k}")]
-    if isinstance(a, list):
-        if not isinstance(b, list) or len(a) != len(b):
-            return [f"{path}: lengths differ"]
-        return [d for i, (x, y) in enumerate(zip(a, b)) for d in diff(x, y, f"{path}[{i}]")]
-    return [] if a == b else [f"{path}: {a} != {b}"]
 
 
 failures = []
@@ -61,7 +53,7 @@ for name, j in out.items():
 shared = [g for g in groups.values() if len(g) > 1]
 for g in shared:
     for other in g[1:]:
-        d = diff(out[g[0]], out[other])
+        d = json_diff(out[g[0]], out[other], SKIP)
         if d:
             failures.append(f"{g[0]} and {other} have the same workload but differ:\n  " + "\n  ".join(d[:8]))
     hits = [sum(icc["rti"]["hits"] for icc in out[n]["iccs_detail"]) for n in g]

@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
-"""Smoke test: `raplas simulate` on every shipped scene with every shipped config
-(16x16 pixels to stay fast) exits 0, writes its JSON, and reports functional_match."""
+"""Smoke test: `raplas simulate` on the built-in scene and every shipped scene
+(16x16 pixels to stay fast) with every shipped config exits 0, writes its
+JSON, and reports functional_match. The shipped scenes need ../shared/scenes
+(testlib: a skip when missing, a failure under CI=true)."""
 import glob
 import json
 import os
@@ -8,19 +10,20 @@ import subprocess
 import sys
 import tempfile
 
+from testlib import finish, need_shared
+
 raplas, root = sys.argv[1], os.path.abspath(sys.argv[2])
-shared = os.path.join(os.path.dirname(root), "shared", "scenes")
+scenes = [("built-in", [])]
+if need_shared(root):
+    scenes += [(os.path.basename(s), ["--scene", s]) for s in sorted(glob.glob(os.path.join(root, "scenes", "*.toml")))]
 failures = 0
 with tempfile.TemporaryDirectory() as tmp:
-    for scene in sorted(glob.glob(os.path.join(root, "scenes", "*.toml"))):
+    for scene, scene_args in scenes:
         for config in sorted(glob.glob(os.path.join(root, "configs", "*.toml"))):
-            name = f"{os.path.basename(scene)} x {os.path.basename(config)}"
-            if not os.path.isdir(shared):
-                print(f"skip {name}: no {shared}")
-                continue
+            name = f"{scene} x {os.path.basename(config)}"
             out = os.path.join(tmp, "out.json")
-            cmd = [raplas, "simulate", "--scene", scene, "--config", config, "--iccs", "16",
-                   "--set", "image.width=16", "--set", "image.height=16", "--json", out, "-q"]
+            cmd = [raplas, "simulate", "--config", config, "--iccs", "16", "--set", "image.width=16",
+                   "--set", "image.height=16", "--json", out, "-q"] + scene_args
             p = subprocess.run(cmd, capture_output=True, text=True)
             if p.returncode != 0:
                 print(f"FAIL {name}: exit {p.returncode}: {p.stderr.strip()}")
@@ -32,4 +35,4 @@ with tempfile.TemporaryDirectory() as tmp:
                   f"functional_match {j['functional_match']}")
             failures += not ok
 print(f"{failures} failed")
-sys.exit(1 if failures else 0)
+finish(failures)

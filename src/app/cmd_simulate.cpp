@@ -155,7 +155,7 @@ int cmd_simulate(const SimulateArgs& a) {
     if (!so.quiet) std::cout << sim_summary(j);
     if (result.functional_checked && !result.functional_match) {
         std::cerr << "raplas: error: functional mismatch: " << result.rays_mismatched << " of " << result.rays_checked
-                  << " rays differ from the front end\n";
+                  << " rays differ from the front end; first: " << describe_mismatch(j["first_mismatch"]) << "\n";
         return kExitInternalError;
     }
     return 0;

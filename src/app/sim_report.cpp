@@ -189,12 +189,45 @@ nlohmann::json sim_json(const SimReportInput& in) {
     j["functional_match"] = r.functional_match;
     j["rays_checked"] = r.rays_checked;
     j["rays_mismatched"] = r.rays_mismatched;
+    j["first_mismatch"] = nullptr;
+    if (r.first_mismatch) {
+        const auto& m = *r.first_mismatch;
+        const TraceGroup& g = in.trace->groups[m.group];
+        const bool primary = g.kind == GroupKind::primary;
+        auto hit = [](const Hit& x) {
+            return x.tri < 0 ? nlohmann::json(nullptr) : nlohmann::json{{"triangle", x.tri}, {"t", x.t}};
+        };
+        j["first_mismatch"] = {{"group", m.group},
+                               {"kind", primary ? "primary" : "shadow"},
+                               {"ray", {m.h, m.v}},
+                               {"pixel", {g.px + (primary ? std::int32_t(m.h) : 0), g.py + (primary ? std::int32_t(m.v) : 0)}},
+                               {"model", hit(m.model)},
+                               {"frontend", hit(m.frontend)}};
+    }
     const double w = r.model_wall_s > 0 ? r.model_wall_s : 1e-9;
     j["wall"] = {{"frontend_s", in.frontend_wall_s},
                  {"model_s", r.model_wall_s},
                  {"sim_cycles_per_second", double(r.total_cycles) / w},
                  {"sim_icc_cycles_per_second", double(r.total_cycles) * c.iccs / w}};
     return j;
+}
+
+std::string describe_mismatch(const nlohmann::json& m) {
+    if (m.is_null()) return "none";
+    auto hit = [](const nlohmann::json& x) {
+        if (x.is_null()) return std::string("no hit");
+        std::ostringstream o;
+        o.precision(9);
+        o << "triangle " << x["triangle"].get<std::int64_t>() << " at t = " << x["t"].get<double>();
+        return o.str();
+    };
+    std::ostringstream o;
+    const auto& ray = m["ray"];
+    const auto& px = m["pixel"];
+    o << m["kind"].get<std::string>() << " ray (h " << ray[0].get<std::uint32_t>() << ", v " << ray[1].get<std::uint32_t>()
+      << ") of group " << m["group"].get<std::size_t>() << ", pixel (" << px[0].get<std::int32_t>() << ", "
+      << px[1].get<std::int32_t>() << "): model " << hit(m["model"]) << ", front end " << hit(m["frontend"]);
+    return o.str();
 }
 
 std::string sim_csv_header() {

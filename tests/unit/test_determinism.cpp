@@ -1,58 +1,42 @@
-// The same run twice, with different thread counts, gives the same bytes:
-// PNG, trace file, and JSON apart from the wall-clock figures kept under
-// "wall". (The PNG and hits CSV for --threads 1 and 2 are also checked in
-// test_cli.cpp; sweep CSVs for --jobs 1 and 2 in test_sweep.cpp.)
+// The same run with 1, 2 and 3 threads (an odd count splits the work
+// differently) gives the same bytes: PNG, hits CSV, trace file, and JSON
+// apart from the wall-clock figures kept under "wall"; for the built-in scene
+// and, from the shared scenes, the small bunny on a floor. (Sweep CSVs for
+// --jobs 1, 2 and 3: test_sweep.cpp.)
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "run_raplas.hpp"
+#include "shared_scenes.hpp"
+
 namespace {
 
-namespace fs = std::filesystem;
+using namespace raplas_test;
 
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
+const char* const kThreads[] = {"1", "2", "3"};
+
+// A scene whose shadow groups hit many spheres, so that threads interleave.
+std::vector<std::string> scene_args(const std::string& scene) {
+    std::vector<std::string> a = {"--set", "image.width=48", "--set", "image.height=40", "--set", "groups.size=8",
+                                  "--set", "groups.shadow_size=4"};
+    if (scene == "bunny_floor") return plus(a, {"--mesh", shared_scene("bunny/bun_zipper_res4.obj"), "--set", "floor=true"});
+    return plus(a, {"--set", "builtin_detail=3"});
 }
 
-std::string quoted(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) {
-        if (c == '\'') q += "'\\''";
-        else q += c;
-    }
-    return q + "'";
-}
-
-class Determinism : public ::testing::Test {
+class Determinism : public TempDirTest, public ::testing::WithParamInterface<std::string> {
 protected:
-    fs::path dir;
     void SetUp() override {
-        std::string tmpl = (fs::path(::testing::TempDir()) / "raplas_det_XXXXXX").string();
-        ASSERT_NE(::mkdtemp(tmpl.data()), nullptr);
-        dir = tmpl;
+        TempDirTest::SetUp();
+        if (GetParam() == "bunny_floor") RAPLAS_NEED_SHARED(shared_scene("bunny/bun_zipper_res4.obj"));
     }
-    void TearDown() override {
-        std::error_code ec;
-        fs::remove_all(dir, ec);
+    void ok(const std::vector<std::string>& args) const {
+        const RunResult r = run(args);
+        ASSERT_EQ(r.code, 0) << r.err;
     }
-    int run(const std::vector<std::string>& args) const {
-        std::string cmd = "cd " + quoted(dir.string()) + " && " + quoted(RAPLAS_BINARY);
-        for (const auto& a : args) cmd += " " + quoted(a);
-        cmd += " >/dev/null 2>" + quoted((dir / "stderr").string());
-        const int status = std::system(cmd.c_str());
-        return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    }
-    std::string err() const { return slurp(dir / "stderr"); }
     // The JSON file without its "wall" object, which must be there.
     nlohmann::json without_wall(const std::string& name) const {
         nlohmann::json j = nlohmann::json::parse(slurp(dir / name));
@@ -62,47 +46,46 @@ protected:
     }
 };
 
-// A scene whose shadow groups hit many spheres, so that threads interleave.
-std::vector<std::string> scene_args() {
-    std::vector<std::string> a = {"--set", "image.width=48", "--set", "image.height=40", "--set", "groups.size=8",
-                                  "--set", "groups.shadow_size=4"};
-    const std::string bunny = std::string(RAPLAS_SHARED_SCENES) + "/bunny/bun_zipper_res4.obj";
-    if (fs::exists(bunny)) a.insert(a.end(), {"--mesh", bunny, "--set", "floor=true"});
-    return a;
+TEST_P(Determinism, RenderPngHitsAndJsonDoNotDependOnThreads) {
+    for (const char* n : kThreads)
+        ASSERT_NO_FATAL_FAILURE(ok(plus(plus({"render", "-q"}, scene_args(GetParam())),
+                                        {"--threads", n, "-o", std::string(n) + ".png", "--json",
+                                         std::string(n) + ".json", "--hits", std::string(n) + ".csv"})));
+    const nlohmann::json one = without_wall("1.json");
+    EXPECT_GT(one["counts"]["shadow_ray_groups"].get<std::uint64_t>(), 100u);
+    EXPECT_GT(slurp(dir / "1.png").size(), 100u);
+    for (const char* n : {"2", "3"}) {
+        SCOPED_TRACE(std::string("--threads ") + n);
+        EXPECT_TRUE(slurp(dir / "1.png") == slurp(dir / (std::string(n) + ".png"))) << "PNG differs";
+        EXPECT_TRUE(slurp(dir / "1.csv") == slurp(dir / (std::string(n) + ".csv"))) << "hits CSV differs";
+        EXPECT_EQ(one.dump(), without_wall(std::string(n) + ".json").dump());
+    }
 }
 
-std::vector<std::string> plus(std::vector<std::string> a, const std::vector<std::string>& b) {
-    a.insert(a.end(), b.begin(), b.end());
-    return a;
+TEST_P(Determinism, TraceFileAndSimulateJsonDoNotDependOnThreads) {
+    const std::vector<std::string> sim = {"simulate", "-q", "--iccs", "3", "--fifo", "10"};
+    for (const char* n : kThreads) {
+        const std::string t = n;
+        ASSERT_NO_FATAL_FAILURE(ok(plus(plus({"trace", "-q"}, scene_args(GetParam())), {"--threads", t, "-o", t + ".trace"})));
+        // the front end with n threads, then the model
+        ASSERT_NO_FATAL_FAILURE(ok(plus(plus(sim, scene_args(GetParam())), {"--threads", t, "--json", t + ".json"})));
+    }
+    const std::string trace = slurp(dir / "1.trace");
+    EXPECT_GT(trace.size(), 1000u);
+    // the model from the trace file
+    ASSERT_NO_FATAL_FAILURE(ok(plus(sim, {"--trace", "1.trace", "--json", "from_trace.json"})));
+    const nlohmann::json one = without_wall("1.json");
+    EXPECT_GT(one["total_cycles"].get<std::uint64_t>(), 0u);
+    EXPECT_TRUE(one["functional_match"].get<bool>());
+    for (const char* n : {"2", "3"}) {
+        SCOPED_TRACE(std::string("--threads ") + n);
+        EXPECT_TRUE(trace == slurp(dir / (std::string(n) + ".trace"))) << "trace files differ";
+        EXPECT_EQ(one.dump(), without_wall(std::string(n) + ".json").dump());
+    }
+    EXPECT_EQ(one.dump(), without_wall("from_trace.json").dump());
 }
+
+INSTANTIATE_TEST_SUITE_P(Scenes, Determinism, ::testing::Values("builtin", "bunny_floor"),
+                         [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
 
 }  // namespace
-
-TEST_F(Determinism, RenderJsonAndPngDoNotDependOnThreads) {
-    ASSERT_EQ(run(plus(plus({"render", "-q"}, scene_args()), {"--threads", "1", "-o", "a.png", "--json", "a.json"})), 0)
-        << err();
-    ASSERT_EQ(run(plus(plus({"render", "-q"}, scene_args()), {"--threads", "2", "-o", "b.png", "--json", "b.json"})), 0)
-        << err();
-    EXPECT_EQ(slurp(dir / "a.png"), slurp(dir / "b.png"));
-    const nlohmann::json a = without_wall("a.json"), b = without_wall("b.json");
-    EXPECT_GT(a["counts"]["shadow_ray_groups"].get<std::uint64_t>(), 100u);
-    EXPECT_EQ(a.dump(), b.dump());
-}
-
-TEST_F(Determinism, TraceFileAndSimulateJsonDoNotDependOnThreads) {
-    ASSERT_EQ(run(plus(plus({"trace", "-q"}, scene_args()), {"--threads", "1", "-o", "a.trace"})), 0) << err();
-    ASSERT_EQ(run(plus(plus({"trace", "-q"}, scene_args()), {"--threads", "2", "-o", "b.trace"})), 0) << err();
-    const std::string ta = slurp(dir / "a.trace");
-    EXPECT_GT(ta.size(), 1000u);
-    EXPECT_TRUE(ta == slurp(dir / "b.trace")) << "trace files differ";
-    // simulate: the front end with 1 and 2 threads, the model from the scene and from the trace
-    const std::vector<std::string> sim = {"simulate", "-q", "--iccs", "3", "--fifo", "10"};
-    ASSERT_EQ(run(plus(plus(sim, scene_args()), {"--threads", "1", "--json", "a.json"})), 0) << err();
-    ASSERT_EQ(run(plus(plus(sim, scene_args()), {"--threads", "2", "--json", "b.json"})), 0) << err();
-    ASSERT_EQ(run(plus(sim, {"--trace", "a.trace", "--json", "c.json"})), 0) << err();
-    const nlohmann::json a = without_wall("a.json"), b = without_wall("b.json"), c = without_wall("c.json");
-    EXPECT_GT(a["total_cycles"].get<std::uint64_t>(), 0u);
-    EXPECT_TRUE(a["functional_match"].get<bool>());
-    EXPECT_EQ(a.dump(), b.dump());
-    EXPECT_EQ(a.dump(), c.dump());
-}

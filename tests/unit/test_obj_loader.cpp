@@ -9,6 +9,7 @@
 
 #include "raplas/scene/mesh.hpp"
 #include "raplas/util/error.hpp"
+#include "shared_scenes.hpp"
 
 namespace {
 
@@ -273,8 +274,8 @@ TEST_F(ObjLoader, ErrorMessagesAreOneLine) {
 }
 
 TEST_F(ObjLoader, SharedCornellBoxLoads) {
-    const std::string p = std::string(RAPLAS_SHARED_SCENES) + "/cornell/CornellBox-Original.obj";
-    if (!fs::exists(p)) GTEST_SKIP() << p << " not present";
+    const std::string p = raplas_test::shared_scene("cornell/CornellBox-Original.obj");
+    RAPLAS_NEED_SHARED(p);
     Mesh m = raplas::load_obj(p);
     EXPECT_EQ(m.triangle_count(), 36u);
     bool emissive = false;

@@ -9,7 +9,6 @@
 #include <cstdint>
 #include <random>
 #include <string>
-#include <sys/stat.h>
 #include <vector>
 
 #include "raplas/frontend/frame.hpp"
@@ -18,6 +17,7 @@
 #include "raplas/frontend/tracer.hpp"
 #include "raplas/scene/mesh.hpp"
 #include "raplas/scene/scene.hpp"
+#include "shared_scenes.hpp"
 
 namespace {
 
@@ -411,14 +411,9 @@ TEST(BoundingSpheres, SingleTriangleSphereIsTight) {
     }
 }
 
-bool file_exists(const std::string& p) {
-    struct stat st{};
-    return ::stat(p.c_str(), &st) == 0;
-}
-
 TEST(BoundingSpheres, MedianSplitBeatsFileOrderOnTheBunny) {
-    const std::string path = std::string(RAPLAS_SHARED_SCENES) + "/bunny/bun_zipper.obj";
-    if (!file_exists(path)) GTEST_SKIP() << path << " not present";
+    const std::string path = raplas_test::shared_scene("bunny/bun_zipper.obj");
+    RAPLAS_NEED_SHARED(path);
     const Mesh m = load_obj(path);
     ASSERT_GT(m.triangle_count(), 60000u);
     const Aabb box = m.bounds();

@@ -18,39 +18,14 @@
 #include <thread>
 #include <vector>
 
+#include "run_raplas.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-struct RunResult {
-    int code = -1;
-    std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
-std::string quoted(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) {
-        if (c == '\'') q += "'\\''";
-        else q += c;
-    }
-    return q + "'";
-}
-
-std::vector<std::string> lines_of(const std::string& text) {
-    std::vector<std::string> v;
-    std::istringstream in(text);
-    std::string line;
-    while (std::getline(in, line)) v.push_back(line);
-    return v;
-}
+using namespace raplas_test;
 
 std::vector<std::string> split(const std::string& line) {
     std::vector<std::string> v;
@@ -88,37 +63,15 @@ std::vector<std::string> sweep_args(const std::string& out) {
     return a;
 }
 
-std::vector<std::string> plus(std::vector<std::string> a, const std::vector<std::string>& more) {
-    a.insert(a.end(), more.begin(), more.end());
-    return a;
-}
-
-class Sweep : public ::testing::Test {
+class Sweep : public TempDirTest {
 protected:
-    fs::path dir;
-
-    static fs::path make_temp() {
-        std::string tmpl = (fs::path(::testing::TempDir()) / "raplas_sweep_XXXXXX").string();
-        if (!::mkdtemp(tmpl.data())) return {};
-        return tmpl;
-    }
     static RunResult run_in(const fs::path& where, const std::vector<std::string>& args) {
-        std::string cmd = "cd " + quoted(where.string()) + " && " + quoted(RAPLAS_BINARY);
-        for (const auto& a : args) cmd += " " + quoted(a);
-        cmd += " >" + quoted((where / ".stdout").string()) + " 2>" + quoted((where / ".stderr").string());
-        RunResult r;
-        const int status = std::system(cmd.c_str());
-        r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        r.out = slurp(where / ".stdout");
-        r.err = slurp(where / ".stderr");
-        fs::remove(where / ".stdout");
-        fs::remove(where / ".stderr");
-        return r;
+        return run_raplas(where, args);
     }
     // The CSV of an uninterrupted sweep with --jobs 2, made once per process.
     static const std::string& reference_csv() {
         static const std::string csv = [] {
-            const fs::path where = make_temp();
+            const fs::path where = make_temp_dir("raplas_sweep");
             const RunResult r = run_in(where, plus(sweep_args("ref.csv"), {"--jobs", "2"}));
             std::string text = r.code == 0 ? slurp(where / "ref.csv") : std::string();
             if (r.code != 0) std::cerr << "reference sweep failed: " << r.err;
@@ -128,16 +81,6 @@ protected:
         }();
         return csv;
     }
-    void SetUp() override {
-        ASSERT_TRUE(fs::exists(RAPLAS_BINARY)) << RAPLAS_BINARY;
-        dir = make_temp();
-        ASSERT_FALSE(dir.empty());
-    }
-    void TearDown() override {
-        std::error_code ec;
-        fs::remove_all(dir, ec);
-    }
-    RunResult run(const std::vector<std::string>& args) const { return run_in(dir, args); }
 };
 
 TEST_F(Sweep, RowsInPointOrderMatchSeparateSimulateRuns) {
@@ -219,11 +162,15 @@ TEST_F(Sweep, KilledSweepResumesWithNothingLostOrDuplicated) {
 }
 
 TEST_F(Sweep, JobCountDoesNotChangeTheCsv) {
-    const std::string& reference = reference_csv();
+    const std::string& reference = reference_csv();  // --jobs 2
     ASSERT_FALSE(reference.empty());
     const RunResult r = run(plus(sweep_args("one.csv"), {"--jobs", "1"}));
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_EQ(slurp(dir / "one.csv"), reference);
+    // Three jobs over six points: an odd count splits the points differently.
+    const RunResult three = run(plus(sweep_args("three.csv"), {"--jobs", "3"}));
+    ASSERT_EQ(three.code, 0) << three.err;
+    EXPECT_EQ(slurp(dir / "three.csv"), reference);
     // A re-run finds every point done and writes the same file.
     const RunResult again = run(plus(sweep_args("one.csv"), {"--jobs", "2"}));
     ASSERT_EQ(again.code, 0) << again.err;

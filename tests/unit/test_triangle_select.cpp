@@ -16,6 +16,7 @@
 #include "raplas/frontend/trace_io.hpp"
 #include "raplas/scene/scene.hpp"
 #include "raplas/util/error.hpp"
+#include "shared_scenes.hpp"
 
 namespace {
 
@@ -105,8 +106,7 @@ TEST(TriangleSelectReading, BuiltInSceneEveryGroup) {
 }
 
 TEST(TriangleSelectReading, BunnyAt64x64) {
-    const std::string mesh = std::string(RAPLAS_SHARED_SCENES) + "/bunny/bun_zipper.obj";
-    if (!std::filesystem::exists(mesh)) GTEST_SKIP() << mesh << " not present";
+    RAPLAS_NEED_SHARED(raplas_test::shared_scene("bunny/bun_zipper.obj"));
     SceneRequest req;
     req.scene_file = std::string(RAPLAS_SOURCE_DIR) + "/scenes/bunny.toml";
     check_scene(load_scene(req), 24);

@@ -22,6 +22,9 @@ struct SimReportInput {
 // Deterministic figures under their own keys; wall-clock figures only under "wall".
 nlohmann::json sim_json(const SimReportInput& in);
 // One flat row of the scalar figures (the sweep's columns).
+// One line on a `first_mismatch` object of sim_json: which ray (kind, group,
+// pixel) and both answers; "none" for null.
+std::string describe_mismatch(const nlohmann::json& first_mismatch);
 std::string sim_csv_header();
 std::string sim_csv_row(const nlohmann::json& j);
 std::string sim_summary(const nlohmann::json& j);

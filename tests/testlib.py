@@ -1,0 +1,68 @@
+"""Helpers of the Python checks under tests/.
+
+small_scenes: the small scenes the model's checks simulate: the built-in
+scene, and three shared scenes at 16x16 when ../shared/scenes is present.
+A check that misses the shared scenes says SKIP and ends with finish(),
+which makes ctest count it as skipped (exit 77, SKIP_RETURN_CODE); under
+CI=true a missing ../shared/scenes is a failure.
+
+json_diff: every difference between two JSON documents, keys in either."""
+import os
+import sys
+
+SKIP_EXIT = 77
+_shared_missing = False
+
+
+def in_ci():
+    return os.environ.get("CI") == "true"
+
+
+def shared_scenes_dir(root):
+    return os.path.join(os.path.dirname(root), "shared", "scenes")
+
+
+def need_shared(root):
+    """True when the shared scenes are present; otherwise says SKIP (or, under
+    CI=true, FAIL and exits 1) and returns False."""
+    global _shared_missing
+    shared = shared_scenes_dir(root)
+    if os.path.isdir(shared):
+        return True
+    if in_ci():
+        print(f"FAIL: {shared} is missing, and CI=true needs it")
+        sys.exit(1)
+    print(f"SKIP: {shared} is missing: the checks that need it did not run")
+    _shared_missing = True
+    return False
+
+
+def small_scenes(root):
+    """(name, raplas arguments selecting it) for each small scene."""
+    scenes = [("builtin", ["--set", "image.width=24", "--set", "image.height=24", "--set", "groups.size=8",
+                           "--set", "groups.shadow_size=8", "--set", "builtin_detail=2"])]
+    if need_shared(root):
+        for name in ("cornell", "bunny_small", "sportscar"):
+            scenes.append((name, ["--scene", os.path.join(root, "scenes", name + ".toml"), "--set", "image.width=16",
+                                  "--set", "image.height=16"]))
+    return scenes
+
+
+def json_diff(a, b, skip=frozenset(), path=""):
+    """Differences between JSON values a and b, as 'path: a != b' lines; keys
+    in `skip` are left out at any depth."""
+    if isinstance(a, dict) or isinstance(b, dict):
+        if not (isinstance(a, dict) and isinstance(b, dict)):
+            return [f"{path}: {a!r} != {b!r}"]
+        keys = sorted(set(a) | set(b))
+        return [d for k in keys if k not in skip for d in json_diff(a.get(k), b.get(k), skip, f"{path}/{k}")]
+    if isinstance(a, list):
+        if not isinstance(b, list) or len(a) != len(b):
+            return [f"{path}: lengths differ"]
+        return [d for i, (x, y) in enumerate(zip(a, b)) for d in json_diff(x, y, skip, f"{path}[{i}]")]
+    return [] if a == b else [f"{path}: {a!r} != {b!r}"]
+
+
+def finish(failures):
+    """Exit: 1 on failures, else 77 (skipped) when shared scenes were missing, else 0."""
+    sys.exit(1 if failures else SKIP_EXIT if _shared_missing else 0)
