@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """sim.estimate = fifo_bound: over a seeded grid of scenes, ICC counts, FIFO
-depths, PSI pipe counts and stages, RTI pipe counts and stages, stall
+depths, per-pass host overheads, PSI pipe counts and stages, RTI pipe counts and stages, stall
 policies, triangle-stream lags, both Triangle Selector readings, the Ray
 Data Fetcher's cycles on a triangle with no pair and overlapped passes,
   1. every pass's bound is at most the exact pass's cycles (with overlapped
@@ -52,6 +52,7 @@ with tempfile.TemporaryDirectory() as tmp:
             cfg = ["--iccs", str(rng.choice([1, 2, 5, 16])), "--fifo", str(fifo),
                    "--set", f"fifo.planeid_depth={rng.choice([1, 4, 1000])}",
                    "--set", f"fifo.sphere_depth={rng.choice([1, 10, 1000])}",
+                   "--set", f"host.pass_overhead_cycles={rng.choice([0, 0, 5])}",
                    "--set", f"link.stall_policy={rng.choice(['any_full', 'needed_full'])}",
                    "--set", f"icc.psi_pipes={rng.choice([32, 8, 5])}",
                    "--set", f"icc.psi_stages={rng.choice([10, 3])}",

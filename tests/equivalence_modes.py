@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """sim.mode=event must give exactly the results of sim.mode=cycle: every figure
 of `raplas simulate --json` except wall-clock ones (every key present in
-either JSON), over a seeded grid of scenes, ICC counts, FIFO depths, PlaneID
-FIFO depths, stall policies, PSI pipe counts and stages, RTI pipe counts and
+either JSON), over a seeded grid of scenes, ICC counts, Triangle, Sphere and PlaneID
+FIFO depths, per-pass host overheads, SystemC sync intervals, stall policies, PSI pipe counts and stages, RTI pipe counts and
 stages, triangle-stream lags, both Triangle Selector readings, the Ray
 Data Fetcher's cycles on a triangle with no pair, and overlapped passes. Each scene's trace carries
 the pair-less spheres (it serves both readings); a trace made for the
@@ -41,6 +41,9 @@ with tempfile.TemporaryDirectory() as tmp:
         for i in range(points_per_scene):
             cfg = ["--iccs", str(rng.choice([1, 2, 3, 5, 16])), "--fifo", str(rng.choice([1, 2, 3, 10, 100, 1000])),
                    "--set", f"fifo.planeid_depth={rng.choice([1, 2, 16])}",
+                   "--set", f"fifo.sphere_depth={rng.choice([1, 3, 1000])}",
+                   "--set", f"host.pass_overhead_cycles={rng.choice([0, 0, 5])}",
+                   "--set", f"sim.sync_cycles={rng.choice([4096, 333])}",
                    "--set", f"link.stall_policy={rng.choice(['any_full', 'needed_full'])}",
                    "--set", f"icc.psi_pipes={rng.choice([32, 32, 8, 5])}",
                    "--set", f"icc.psi_stages={rng.choice([10, 10, 3])}",
