@@ -119,9 +119,13 @@ void check_masks(const Scene& scene) {
                 const auto& got = unit->sphere_hits();
                 ASSERT_EQ(got.size(), want.pairs.size()) << scene.name << " " << fmt << " cull " << cull << " group " << gi;
                 for (std::size_t i = 0; i < got.size(); ++i) {
-                    ASSERT_EQ(got[i].sphere, want.pairs[i].sphere) << fmt << " group " << gi;
-                    ASSERT_EQ(got[i].rows, want.pairs[i].rows) << fmt << " group " << gi << " sphere " << got[i].sphere;
-                    ASSERT_EQ(got[i].cols, want.pairs[i].cols) << fmt << " group " << gi << " sphere " << got[i].sphere;
+                    // By value: SphereHitRec is packed, a reference to its members is misaligned.
+                    const std::uint32_t sphere = got[i].sphere, want_sphere = want.pairs[i].sphere;
+                    const std::uint64_t rows = got[i].rows, want_rows = want.pairs[i].rows;
+                    const std::uint64_t cols = got[i].cols, want_cols = want.pairs[i].cols;
+                    ASSERT_EQ(sphere, want_sphere) << fmt << " group " << gi;
+                    ASSERT_EQ(rows, want_rows) << fmt << " group " << gi << " sphere " << sphere;
+                    ASSERT_EQ(cols, want_cols) << fmt << " group " << gi << " sphere " << sphere;
                 }
                 ASSERT_EQ(unit->pairless(), want.pairless) << fmt << " cull " << cull << " group " << gi;
                 records += got.size();
