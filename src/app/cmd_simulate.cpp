@@ -14,21 +14,13 @@
 #include "raplas/frontend/trace_io.hpp"
 #include "raplas/util/atomic_file.hpp"
 #include "raplas/util/error.hpp"
+#include "raplas/util/files.hpp"
 
 #ifndef RAPLAS_SOURCE_DIR
 #define RAPLAS_SOURCE_DIR "."
 #endif
 
 namespace raplas {
-
-namespace {
-
-bool is_file(const std::string& p) {
-    struct stat st{};
-    return ::stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode);
-}
-
-}  // namespace
 
 std::string resolve_config(const std::string& c) {
     if (is_file(c)) return c;

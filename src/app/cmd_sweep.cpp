@@ -4,10 +4,8 @@
 // killed resumes where it stopped (docs/SWEEPS.md).
 #include <dirent.h>
 #include <fcntl.h>
-#include <sched.h>
 #include <signal.h>
 #include <sys/file.h>
-#include <sys/prctl.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -28,9 +26,12 @@
 
 #include "commands.hpp"
 #include "config.hpp"
+#include "raplas/app/processes.hpp"
+#include "raplas/app/progress.hpp"
 #include "raplas/app/sim_report.hpp"
 #include "raplas/util/atomic_file.hpp"
 #include "raplas/util/error.hpp"
+#include "raplas/util/files.hpp"
 
 #ifndef RAPLAS_SOURCE_DIR
 #define RAPLAS_SOURCE_DIR "."
@@ -44,78 +45,9 @@ namespace raplas {
 namespace {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
 using nlohmann::json;
 
 constexpr int kSpecVersion = 1;
-
-bool is_file(const std::string& p) {
-    struct stat st{};
-    return ::stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode);
-}
-
-std::string slurp(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path + ": cannot read: " + std::strerror(errno));
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
-std::string content_hash(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path + ": cannot read: " + std::strerror(errno));
-    std::uint64_t h = 0xcbf29ce484222325ull;
-    char buf[1 << 16];
-    while (in) {
-        in.read(buf, sizeof buf);
-        for (std::streamsize i = 0; i < in.gcount(); ++i) {
-            h ^= static_cast<unsigned char>(buf[i]);
-            h *= 0x100000001b3ull;
-        }
-    }
-    char hex[17];
-    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
-    return hex;
-}
-
-std::string absolute(const std::string& p) { return fs::absolute(p).lexically_normal().string(); }
-
-std::string shell_quote(const std::string& s) {
-    const bool plain = !s.empty() && s.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                                        "0123456789_./=,:+-@%") == std::string::npos;
-    if (plain) return s;
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
-
-std::string shell_join(const std::vector<std::string>& argv) {
-    std::string s;
-    for (const auto& a : argv) s += (s.empty() ? "" : " ") + shell_quote(a);
-    return s;
-}
-
-std::string self_exe() {
-    char buf[4096];
-    ssize_t n = ::readlink("/proc/self/exe", buf, sizeof buf - 1);
-    if (n <= 0) throw std::runtime_error(std::string("cannot find the raplas executable: ") + std::strerror(errno));
-    return std::string(buf, std::size_t(n));
-}
-
-unsigned core_count() {
-    cpu_set_t set;
-    if (::sched_getaffinity(0, sizeof set, &set) == 0 && CPU_COUNT(&set) > 0) return unsigned(CPU_COUNT(&set));
-    return std::max(1u, std::thread::hardware_concurrency());
-}
-
-std::string duration(double s) {
-    long t = long(s + 0.5);
-    char buf[32];
-    if (t >= 3600) std::snprintf(buf, sizeof buf, "%ld:%02ld:%02ld", t / 3600, t / 60 % 60, t % 60);
-    else std::snprintf(buf, sizeof buf, "%ld:%02ld", t / 60, t % 60);
-    return buf;
-}
 
 // ---- the sweep -------------------------------------------------------------
 
@@ -220,7 +152,7 @@ Sweep make_sweep(const SweepArgs& a, const std::string& wd) {
     if (!a.config.empty()) {
         const std::string path = resolve_config(a.config);
         mp.load_file(path);
-        config_spec = {{"path", absolute(path)}, {"hash", content_hash(path)}};
+        config_spec = {{"path", absolute_path(path)}, {"hash", file_hash(path)}};
     }
     ParamSet sp = scene_params();
     for (const auto& s : a.sets) {
@@ -254,7 +186,7 @@ Sweep make_sweep(const SweepArgs& a, const std::string& wd) {
             ParamSet check = scene_params();
             check.load_file(in.path);
         }
-        inputs.push_back({{"kind", in.kind}, {"path", absolute(in.path)}, {"hash", content_hash(in.path)}});
+        inputs.push_back({{"kind", in.kind}, {"path", absolute_path(in.path)}, {"hash", file_hash(in.path)}});
     }
     sw.spec = {{"sweep_format", kSpecVersion},
                {"raplas", RAPLAS_VERSION},
@@ -276,7 +208,7 @@ json read_spec(const std::string& wd) {
     if (!is_file(path)) throw InputError(wd + ": not a sweep work dir (no sweep.json)");
     json j;
     try {
-        j = json::parse(slurp(path));
+        j = json::parse(read_file(path));
     } catch (const json::exception&) {
         throw InputError(path + ": not a sweep description (invalid JSON)");
     }
@@ -385,7 +317,7 @@ public:
     bool load(std::size_t i) {
         const std::string path = file(i);
         if (!is_file(path)) return false;
-        const std::string text = slurp(path);
+        const std::string text = read_file(path);
         const auto nl = text.find('\n');
         if (nl == std::string::npos || nl + 1 >= text.size() || text.back() != '\n' ||
             text.find('\n', nl + 1) != text.size() - 1)
@@ -441,101 +373,24 @@ struct Child {
     std::string log;
 };
 
-// Runs `raplas ARGV` (this very executable) with stderr into `log`; the child
-// dies with the sweep (PR_SET_PDEATHSIG), so a killed sweep leaves no workers.
-pid_t spawn(const std::vector<std::string>& args, const std::string& log) {
-    std::vector<std::string> argv{"raplas"};
-    argv.insert(argv.end(), args.begin(), args.end());
-    std::vector<char*> cargv;
-    for (auto& s : argv) cargv.push_back(s.data());
-    cargv.push_back(nullptr);
-    const int logfd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (logfd < 0) throw InputError(log + ": cannot write: " + std::strerror(errno));
-    const int nullfd = ::open("/dev/null", O_RDWR | O_CLOEXEC);
-    const pid_t parent = ::getpid();
-    std::fflush(nullptr);
-    const pid_t pid = ::fork();
-    if (pid == 0) {
-        ::prctl(PR_SET_PDEATHSIG, SIGKILL);
-        if (::getppid() != parent) ::_exit(kExitInternalError);
-        if (nullfd >= 0) {
-            ::dup2(nullfd, 0);
-            ::dup2(nullfd, 1);
-        }
-        ::dup2(logfd, 2);
-        sigset_t none;
-        sigemptyset(&none);
-        ::sigprocmask(SIG_SETMASK, &none, nullptr);
-        ::execv("/proc/self/exe", cargv.data());
-        const std::string msg =
-            std::string("raplas: internal error: cannot run /proc/self/exe: ") + std::strerror(errno) + "\n";
-        if (::write(2, msg.data(), msg.size()) < 0) {}
-        ::_exit(kExitInternalError);
-    }
-    const int err = errno;
-    ::close(logfd);
-    if (nullfd >= 0) ::close(nullfd);
-    if (pid < 0) throw std::runtime_error(std::string("fork: ") + std::strerror(err));
-    return pid;
-}
-
-std::string last_line(const std::string& path) {
-    std::ifstream in(path);
-    std::string line, last;
-    while (std::getline(in, line))
-        if (line.find_first_not_of(" \t\r") != std::string::npos) last = line;
-    return last;
-}
-
 // ---- progress ------------------------------------------------------------------
 
+// The sweep's counts on one ProgressLine.
 struct Progress {
-    bool on = false, tty = false;
-    Clock::time_point t0 = Clock::now();
+    ProgressLine line;
     std::size_t total = 0, done = 0, failed = 0;
     std::size_t traces_total = 0, traces_done = 0;
     std::size_t to_run = 0, run_done = 0;  // points simulated by this run
-    bool drawn = false;
-    std::string last;  // last line written when stderr is not a terminal
 
-    void clear() {
-        if (on && tty && drawn) std::fputs("\r\033[K", stderr);
-        drawn = false;
-    }
+    Progress(bool on, bool tty) : line(on, tty) {}
     void draw() {
-        if (!on) return;
-        const double el = std::chrono::duration<double>(Clock::now() - t0).count();
-        const int width = 24;
-        const int fill = total ? int(double(done) / double(total) * width) : width;
-        std::string bar = "[" + std::string(std::size_t(fill), '#') + std::string(std::size_t(width - fill), '.') + "]";
-        std::string eta = "--";
-        if (run_done) eta = duration(el / double(run_done) * double(to_run - run_done));
-        else if (to_run == 0) eta = duration(0);
-        char buf[256];
-        std::snprintf(buf, sizeof buf, "%s %zu/%zu points", bar.c_str(), done, total);
-        std::string line = buf;
+        std::string extra;
         if (traces_done < traces_total)
-            line += ", traces " + std::to_string(traces_done) + "/" + std::to_string(traces_total);
-        if (failed) line += ", " + std::to_string(failed) + " failed";
-        line += ", " + duration(el) + " elapsed, ETA " + eta;
-        if (tty) {
-            std::fprintf(stderr, "\r%s\033[K", line.c_str());
-            drawn = true;
-        } else {
-            // One line per finished point or trace, not per clock tick.
-            const std::string state =
-                std::to_string(done) + "/" + std::to_string(traces_done) + "/" + std::to_string(failed);
-            if (state == last) return;
-            last = state;
-            std::fprintf(stderr, "%s\n", line.c_str());
-        }
-        std::fflush(stderr);
+            extra += ", traces " + std::to_string(traces_done) + "/" + std::to_string(traces_total);
+        if (failed) extra += ", " + std::to_string(failed) + " failed";
+        line.draw(done, total, "points", extra, run_done, to_run);
     }
-    void message(const std::string& m) {
-        clear();
-        std::fputs(m.c_str(), stderr);
-        std::fflush(stderr);
-    }
+    void message(const std::string& m) { line.message(m); }
 };
 
 // ---- modes ---------------------------------------------------------------------
@@ -557,9 +412,7 @@ int run_sweep(const Sweep& sw, const SweepArgs& a) {
         }
     write_out(out, results);
 
-    Progress pr;
-    pr.on = a.progress || (::isatty(2) && !a.quiet);
-    pr.tty = ::isatty(2);
+    Progress pr(a.progress || (::isatty(2) && !a.quiet), ::isatty(2));
     pr.total = n;
     pr.done = results.count();
     for (std::size_t s = 0; s < ns; ++s) {
@@ -618,7 +471,7 @@ int run_sweep(const Sweep& sw, const SweepArgs& a) {
                 c.log = sw.point_log(c.index);
                 point[c.index] = St::running;
             }
-            c.pid = spawn(c.argv, c.log);
+            c.pid = spawn_self(c.argv, c.log);
             running.push_back(std::move(c));
         }
         if (running.empty()) break;
@@ -678,9 +531,9 @@ int run_sweep(const Sweep& sw, const SweepArgs& a) {
     ::sigprocmask(SIG_SETMASK, &old_mask, nullptr);
     write_out(out, results);
     pr.draw();
-    if (pr.on && pr.tty) std::fputs("\n", stderr);
+    pr.line.finish();
 
-    const double wall = std::chrono::duration<double>(Clock::now() - pr.t0).count();
+    const double wall = pr.line.elapsed();
     if (!a.quiet) {
         std::printf("sweep: %zu points (%zu simulated, %zu already done, %zu failed) in %.1f s; wrote %s\n", n,
                     pr.run_done, already, pr.failed, wall, out.c_str());
@@ -773,7 +626,7 @@ void add_sweep_options(CLI::App* cmd, SweepArgs& a) {
 
 int cmd_sweep(const SweepArgs& a) {
     check_out_path(a.out);
-    const std::string wd = absolute(a.work_dir.empty() ? a.out + ".d" : a.work_dir);
+    const std::string wd = absolute_path(a.work_dir.empty() ? a.out + ".d" : a.work_dir);
     if (a.merge) {
         if (!a.emit_jobs.empty()) throw InputError("give either --merge or --emit-jobs, not both");
         const bool defines = !a.scenes.empty() || !a.meshes.empty() || !a.config.empty() || !a.sets.empty() ||

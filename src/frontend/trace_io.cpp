@@ -10,6 +10,7 @@
 
 #include "raplas/util/atomic_file.hpp"
 #include "raplas/util/error.hpp"
+#include "raplas/util/files.hpp"
 
 namespace raplas {
 
@@ -20,14 +21,10 @@ constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8 + 8;
 // Sanity limits that keep a corrupt header from asking for absurd memory.
 constexpr std::uint64_t kMaxCount = std::uint64_t(1) << 32;
 
-std::uint64_t fnv1a(const char* p, std::size_t n) {
-    std::uint64_t h = 1469598103934665603ull;
-    for (std::size_t i = 0; i < n; ++i) {
-        h ^= static_cast<unsigned char>(p[i]);
-        h *= 1099511628211ull;
-    }
-    return h;
-}
+// The trace format's checksum: FNV-1a over 64 bits from the start value
+// 1469598103934665603 (not FNV's usual 14695981039346656037); part of the
+// format, so every trace ever written keeps verifying.
+std::uint64_t fnv1a(const char* p, std::size_t n) { return fnv1a64(std::string_view(p, n), 1469598103934665603ull); }
 
 // Appends to `out`; with `count_only` it only adds up the bytes (`size`), so
 // that the whole file can be written into one buffer of the exact size.

@@ -1,11 +1,10 @@
 #include "raplas/scene/scene.hpp"
 
-#include <sys/stat.h>
-
 #include <cmath>
 #include <cstdlib>
 
 #include "raplas/util/error.hpp"
+#include "raplas/util/files.hpp"
 
 #ifndef RAPLAS_SOURCE_DIR
 #define RAPLAS_SOURCE_DIR "."
@@ -42,13 +41,6 @@ ParamSet scene_params() {
                "(its direct term is zero whatever the shadow rays find; the image does not change)");
     return p;
 }
-
-namespace {
-bool is_file(const std::string& p) {
-    struct stat st{};
-    return ::stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode);
-}
-}  // namespace
 
 std::vector<std::string> scene_search_path(const std::string& scene_dir) {
     std::vector<std::string> dirs;

@@ -26,6 +26,11 @@ const char* type_name(ParamSet::Type t) {
 
 std::string fmt_real(double d) {
     char buf[64];
+    // whole numbers as written (400.0, not 4e+02)
+    if (std::isfinite(d) && d == std::floor(d) && std::fabs(d) < 1e15) {
+        std::snprintf(buf, sizeof buf, "%.1f", d);
+        return buf;
+    }
     std::snprintf(buf, sizeof buf, "%.17g", d);
     std::string s = buf;
     // shortest text that reads back to the same double
@@ -297,6 +302,20 @@ std::string ParamSet::origin(const std::string& key) const {
 std::vector<std::string> ParamSet::keys() const { return order_; }
 const std::string& ParamSet::description(const std::string& key) const { return decls_.at(key).desc; }
 
+std::string ParamSet::value_text(const std::string& key) const {
+    const auto it = decls_.find(key);
+    if (it == decls_.end() || !it->second.cur.present) return "";
+    const Value& v = it->second.cur;
+    switch (it->second.type) {
+        case Type::Int: return std::to_string(v.i);
+        case Type::Real: return fmt_real(v.d);
+        case Type::Bool: return v.b ? "true" : "false";
+        case Type::String: return quote(v.s);
+        case Type::Vec3: return "[" + fmt_real(v.v.x) + ", " + fmt_real(v.v.y) + ", " + fmt_real(v.v.z) + "]";
+    }
+    return "";
+}
+
 std::string ParamSet::dump() const {
     // Top-level keys first, then one [section] per prefix, in declaration order.
     std::vector<std::string> sections;
@@ -320,17 +339,7 @@ std::string ParamSet::dump() const {
                 out << "# " << name << " = (auto)\n";
                 continue;
             }
-            out << name << " = ";
-            switch (d.type) {
-                case Type::Int: out << d.cur.i; break;
-                case Type::Real: out << fmt_real(d.cur.d); break;
-                case Type::Bool: out << (d.cur.b ? "true" : "false"); break;
-                case Type::String: out << quote(d.cur.s); break;
-                case Type::Vec3:
-                    out << "[" << fmt_real(d.cur.v.x) << ", " << fmt_real(d.cur.v.y) << ", " << fmt_real(d.cur.v.z) << "]";
-                    break;
-            }
-            out << "\n";
+            out << name << " = " << value_text(k) << "\n";
         }
     };
     if (by_section.count("")) emit_section("");

@@ -49,6 +49,8 @@ public:
     const std::string& file_dir() const { return file_dir_; }
 
     std::string dump() const;
+    // A key's current value as TOML (what dump() writes; "" when unset).
+    std::string value_text(const std::string& key) const;
     std::vector<std::string> keys() const;
     const std::string& description(const std::string& key) const;
 

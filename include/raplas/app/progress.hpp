@@ -1,0 +1,35 @@
+// One progress line on stderr for a long phase: redrawn in place on a
+// terminal (bar, counts, elapsed time, ETA), and otherwise written as a new
+// line only when the counts change, so a log gets one line per step.
+#pragma once
+
+#include <chrono>
+#include <cstddef>
+#include <string>
+
+namespace raplas {
+
+class ProgressLine {
+public:
+    // on: draw at all; tty: stderr is a terminal.
+    ProgressLine(bool on, bool tty) : on_(on), tty_(tty) {}
+    // done of total units; eta_done of eta_total units measured for the ETA
+    // (units done in this run only: resumed work does not count); `extra` is
+    // appended to the counts, `unit` names them.
+    void draw(std::size_t done, std::size_t total, const std::string& unit, const std::string& extra,
+              std::size_t eta_done, std::size_t eta_total);
+    // Prints `text` (whole lines) above the progress line.
+    void message(const std::string& text);
+    // Ends the line on a terminal.
+    void finish();
+    double elapsed() const;
+
+private:
+    void clear();
+    bool on_, tty_;
+    bool drawn_ = false;
+    std::string last_;
+    std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
+};
+
+}  // namespace raplas

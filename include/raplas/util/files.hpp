@@ -1,0 +1,20 @@
+// Small file helpers shared across layers: is a path a regular file, read a
+// whole file, hash one, make a path absolute.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+namespace raplas {
+
+bool is_file(const std::string& path);  // a regular file (following links)
+// The whole file; InputError "PATH: cannot read: REASON".
+std::string read_file(const std::string& path);
+// FNV-1a, 64 bits, of some bytes / of a file's content; as 16 hex digits.
+std::uint64_t fnv1a64(std::string_view bytes, std::uint64_t h = 0xcbf29ce484222325ull);
+std::string hex64(std::uint64_t h);
+std::string file_hash(const std::string& path);
+std::string absolute_path(const std::string& path);  // absolute and normalised
+
+}  // namespace raplas

@@ -1,0 +1,54 @@
+#include "raplas/app/progress.hpp"
+
+#include <cstdio>
+
+#include "raplas/app/processes.hpp"
+
+namespace raplas {
+
+double ProgressLine::elapsed() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+}
+
+void ProgressLine::clear() {
+    if (on_ && tty_ && drawn_) std::fputs("\r\033[K", stderr);
+    drawn_ = false;
+}
+
+void ProgressLine::draw(std::size_t done, std::size_t total, const std::string& unit, const std::string& extra,
+                        std::size_t eta_done, std::size_t eta_total) {
+    if (!on_) return;
+    const double el = elapsed();
+    const int width = 24;
+    const int fill = total ? int(double(done) / double(total) * width) : width;
+    const std::string bar =
+        "[" + std::string(std::size_t(fill), '#') + std::string(std::size_t(width - fill), '.') + "]";
+    std::string eta = "--";
+    if (eta_done) eta = format_duration(el / double(eta_done) * double(eta_total - eta_done));
+    else if (eta_total == 0) eta = format_duration(0);
+    const std::string counts = std::to_string(done) + "/" + std::to_string(total) + " " + unit + extra;
+    const std::string line = bar + " " + counts + ", " + format_duration(el) + " elapsed, ETA " + eta;
+    if (tty_) {
+        std::fprintf(stderr, "\r%s\033[K", line.c_str());
+        drawn_ = true;
+    } else {
+        // One line per change of the counts, not per clock tick.
+        if (counts == last_) return;
+        last_ = counts;
+        std::fprintf(stderr, "%s\n", line.c_str());
+    }
+    std::fflush(stderr);
+}
+
+void ProgressLine::message(const std::string& text) {
+    clear();
+    std::fputs(text.c_str(), stderr);
+    std::fflush(stderr);
+}
+
+void ProgressLine::finish() {
+    if (on_ && tty_ && drawn_) std::fputs("\n", stderr);
+    drawn_ = false;
+}
+
+}  // namespace raplas
