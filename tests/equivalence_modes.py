@@ -14,12 +14,12 @@ import subprocess
 import sys
 import tempfile
 
-from testlib import finish, json_diff, small_scenes
+from testlib import PROVENANCE, finish, json_diff, provenance_diff, small_scenes
 
 raplas, root = sys.argv[1], os.path.abspath(sys.argv[2])
 # configurations per scene: 10; the sanitizer build passes fewer (tests/CMakeLists.txt)
 points_per_scene = int(sys.argv[3]) if len(sys.argv) > 3 else 10
-SKIP = {"wall"}
+SKIP = {"wall"} | PROVENANCE
 scenes = small_scenes(root)
 
 
@@ -55,7 +55,7 @@ with tempfile.TemporaryDirectory() as tmp:
                    "--set", f"host.overlap_passes={'true' if i % 4 >= 2 else 'false'}",
                    "--set", f"sim.functional={rng.choice(['compute', 'trace'])}"]
             out = {mode: simulate(trace, mode, cfg) for mode in ("cycle", "event")}
-            d = json_diff(out["cycle"], out["event"], SKIP)
+            d = json_diff(out["cycle"], out["event"], SKIP) + provenance_diff(out["cycle"], out["event"], {"sim.mode"})
             if i == 0:  # the row-and-column trace gives the same figures under its reading
                 d += [f"both-trace {x}" for x in json_diff(out["event"], simulate(both_trace, "event", cfg), SKIP)]
             points += 1

@@ -14,11 +14,11 @@ import subprocess
 import sys
 import tempfile
 
-from testlib import finish, json_diff, small_scenes
+from testlib import PROVENANCE, finish, json_diff, provenance_diff, small_scenes
 
 raplas, root = sys.argv[1], os.path.abspath(sys.argv[2])
 points_per_trace = int(sys.argv[3]) if len(sys.argv) > 3 else 3
-COMPUTE_ONLY = {"wall", "functional_checked", "functional_match", "rays_checked"}
+COMPUTE_ONLY = {"wall", "functional_checked", "functional_match", "rays_checked"} | PROVENANCE
 FORMATS = ["float32", "fp1-8-15", "float64"]
 
 
@@ -50,6 +50,7 @@ with tempfile.TemporaryDirectory() as tmp:
                     out[mode] = json.load(open(path))
                 c, t = out["compute"], out["trace"]
                 d = json_diff(without_rti_hits(c), without_rti_hits(t), COMPUTE_ONLY)
+                d += provenance_diff(c, t, {"sim.functional"})
                 # what only compute reports is there, and says what it should
                 if not (c["functional_checked"] and c["functional_match"] and c["rays_checked"] > 0):
                     d.append(f"compute: functional check {c['functional_checked']}/{c['functional_match']}")

@@ -6,7 +6,8 @@ A check that misses the shared scenes says SKIP and ends with finish(),
 which makes ctest count it as skipped (exit 77, SKIP_RETURN_CODE); under
 CI=true a missing ../shared/scenes is a failure.
 
-json_diff: every difference between two JSON documents, keys in either."""
+json_diff: every difference between two JSON documents, keys in either;
+provenance_diff: the provenance of two runs differs only in the keys varied."""
 import os
 import sys
 
@@ -61,6 +62,32 @@ def json_diff(a, b, skip=frozenset(), path=""):
             return [f"{path}: lengths differ"]
         return [d for i, (x, y) in enumerate(zip(a, b)) for d in json_diff(x, y, skip, f"{path}[{i}]")]
     return [] if a == b else [f"{path}: {a!r} != {b!r}"]
+
+
+# What a result says about where it comes from (docs/SWEEPS.md, "Provenance"):
+# two runs of different configs differ here by design; provenance_diff checks it.
+PROVENANCE = frozenset({"overrides", "config_hash", "resolved_config"})
+
+
+def provenance_diff(a, b, varied):
+    """Differences between the provenance of runs a and b other than those of
+    the config keys `varied`: their resolved configs must differ in exactly
+    those keys, each named in both runs' overrides when it differs from the
+    config, their config hashes differ exactly when some key does, and their
+    workloads are the same."""
+    ra, rb = a["resolved_config"], b["resolved_config"]
+    differ = {k for k in set(ra) | set(rb) if ra.get(k) != rb.get(k)}
+    d = [f"resolved_config: {k} differs ({ra.get(k)!r} != {rb.get(k)!r})" for k in sorted(differ - set(varied))]
+    d += [f"resolved_config: {k} is the same in both runs" for k in sorted(set(varied) - differ)]
+    if (a["config_hash"] != b["config_hash"]) != bool(differ):
+        d.append(f"config_hash {a['config_hash']} vs {b['config_hash']} for {len(differ)} differing keys")
+    if a["workload_hash"] != b["workload_hash"]:
+        d.append(f"workload_hash {a['workload_hash']} != {b['workload_hash']}")
+    for k in differ:
+        for j in (a, b):
+            if k in j["overrides"] and j["overrides"][k] != j["resolved_config"][k]:
+                d.append(f"overrides: {k} = {j['overrides'][k]!r}, resolved {j['resolved_config'][k]!r}")
+    return d
 
 
 def finish(failures):

@@ -57,6 +57,7 @@ int cmd_simulate(const SimulateArgs& a) {
         mp.load_file(path);
         config_name = mp.is_given("name") ? mp.get_string("name") : a.config;
     }
+    const ParamSet named = mp;  // what the reports call config_name
     SceneOptions so = a.so;
     for (const auto& s : a.config_sets) {
         std::string key = s.substr(0, s.find('='));
@@ -133,7 +134,10 @@ int cmd_simulate(const SimulateArgs& a) {
                   << "\n";
         return watchdog ? kExitInputError : kExitInternalError;
     }
+    const Provenance provenance =
+        make_provenance(named, mp, trace, cfg.icc.decoder.select == model::TriangleSelect::any);
     SimReportInput in;
+    in.provenance = &provenance;
     in.result = &result;
     in.config = &cfg;
     in.trace = &trace;

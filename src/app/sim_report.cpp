@@ -4,6 +4,10 @@
 #include <sstream>
 #include <string_view>
 
+#include "config.hpp"
+#include "raplas/app/csv_table.hpp"
+#include "raplas/util/files.hpp"
+
 namespace raplas {
 
 namespace {
@@ -17,6 +21,7 @@ const std::vector<std::pair<const char*, const char*>>& columns() {
     static const std::vector<std::pair<const char*, const char*>> c = {
         {"scene", "/scene"},
         {"config", "/config"},
+        {"overrides", "/overrides"},
         {"iccs", "/iccs"},
         {"fifo_depth", "/fifo_depth/triangle"},
         {"sphere_fifo_depth", "/fifo_depth/sphere"},
@@ -59,11 +64,45 @@ const std::vector<std::pair<const char*, const char*>>& columns() {
         {"memory_bound_cycles", "/memory/memory_bound_cycles"},
         {"pe_bound_cycles", "/memory/pe_bound_cycles"},
         {"estimate", "/estimate/mode"},  // "exact" when the JSON has no estimate block
+        {"config_hash", "/config_hash"},
+        {"workload_hash", "/workload_hash"},
     };
     return c;
 }
 
+nlohmann::json param_json(const ParamSet& p, const std::string& key) {
+    switch (p.type(key)) {
+        case ParamSet::Type::Int: return p.get_int(key);
+        case ParamSet::Type::Real: return p.get_real(key);
+        case ParamSet::Type::Bool: return p.get_bool(key);
+        case ParamSet::Type::String: return p.get_string(key);
+        case ParamSet::Type::Vec3: {
+            const auto v = p.get_vec3(key);
+            if (!v) return nullptr;
+            return nlohmann::json::array({v->x, v->y, v->z});
+        }
+    }
+    return nullptr;
+}
+
 }  // namespace
+
+Provenance make_provenance(ParamSet named, ParamSet resolved, const Trace& trace, bool pairless) {
+    model::resolve_numerics(named);
+    model::resolve_numerics(resolved);
+    Provenance p;
+    std::string canonical;
+    p.resolved_config = nlohmann::json::object();
+    for (const std::string& k : resolved.keys()) {
+        const std::string v = resolved.value_text(k);
+        p.resolved_config[k] = param_json(resolved, k);
+        if (v != named.value_text(k)) p.overrides.emplace_back(k, v);
+        if (k != "name") canonical += k + "=" + v + "\n";
+    }
+    p.config_hash = hex64(fnv1a64(canonical));
+    p.workload_hash = workload_hash(trace, pairless);
+    return p;
+}
 
 nlohmann::json sim_json(const SimReportInput& in) {
     const model::SimResult& r = *in.result;
@@ -73,6 +112,18 @@ nlohmann::json sim_json(const SimReportInput& in) {
     nlohmann::json j;
     j["scene"] = in.scene_name;
     j["config"] = in.config_name;
+    if (in.provenance) {
+        const Provenance& p = *in.provenance;
+        j["overrides"] = nlohmann::json::object();
+        for (const auto& [k, v] : p.overrides) j["overrides"][k] = p.resolved_config[k];
+        j["config_hash"] = p.config_hash;
+        j["workload_hash"] = p.workload_hash;
+        j["resolved_config"] = p.resolved_config;
+    } else {
+        j["overrides"] = nlohmann::json::object();
+        j["config_hash"] = "";
+        j["workload_hash"] = "";
+    }
     j["iccs"] = c.iccs;
     j["fifo_depth"] = {{"sphere", c.icc.sphere_fifo.depth},
                        {"triangle", c.icc.triangle_fifo.depth},
@@ -247,6 +298,12 @@ std::string sim_csv_row(const nlohmann::json& j) {
         }
         const auto& v = j.at(p);
         std::string cell;
+        if (std::string_view(name) == "overrides") {  // key=value;key=value
+            for (const auto& [k, x] : v.items())
+                cell += (cell.empty() ? "" : ";") + k + "=" + (x.is_string() ? x.get<std::string>() : x.dump());
+            row += (row.empty() ? "" : ",") + csv_cell(cell);
+            continue;
+        }
         if (v.is_string()) cell = v.get<std::string>();
         else if (v.is_boolean()) cell = v.get<bool>() ? "true" : "false";
         else if (v.is_number_float()) {
@@ -254,12 +311,7 @@ std::string sim_csv_row(const nlohmann::json& j) {
             std::snprintf(buf, sizeof buf, "%.10g", v.get<double>());
             cell = buf;
         } else cell = v.dump();
-        if (cell.find_first_of(",\"\n") != std::string::npos) {
-            std::string q = "\"";
-            for (char ch : cell) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
-            cell = q + "\"";
-        }
-        row += (row.empty() ? "" : ",") + cell;
+        row += (row.empty() ? "" : ",") + csv_cell(cell);
     }
     return row + "\n";
 }

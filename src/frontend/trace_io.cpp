@@ -27,20 +27,24 @@ constexpr std::uint64_t kMaxCount = std::uint64_t(1) << 32;
 std::uint64_t fnv1a(const char* p, std::size_t n) { return fnv1a64(std::string_view(p, n), 1469598103934665603ull); }
 
 // Appends to `out`; with `count_only` it only adds up the bytes (`size`), so
-// that the whole file can be written into one buffer of the exact size.
+// that the whole file can be written into one buffer of the exact size; with
+// `hashing` it feeds the bytes to an FNV-1a hash instead (workload_hash).
 struct Writer {
     std::string out;
     bool count_only = false;
+    bool hashing = false;
+    std::uint64_t hash = 0xcbf29ce484222325ull;
     std::size_t size = 0;
-    template <class T> void put(const T& v) {
-        size += sizeof(T);
-        if (!count_only) out.append(reinterpret_cast<const char*>(&v), sizeof(T));
+    void bytes(const char* p, std::size_t n) {
+        size += n;
+        if (hashing) hash = fnv1a64(std::string_view(p, n), hash);
+        else if (!count_only) out.append(p, n);
     }
+    template <class T> void put(const T& v) { bytes(reinterpret_cast<const char*>(&v), sizeof(T)); }
     void put_vec(const Vec3f& v) { put(v.x); put(v.y); put(v.z); }
     void put_str(const std::string& s) {
         put(std::uint32_t(s.size()));
-        size += s.size();
-        if (!count_only) out += s;
+        bytes(s.data(), s.size());
     }
     void put_varint(std::uint32_t v) {  // LEB128: 7 bits a byte, low bits first
         do {
@@ -49,10 +53,10 @@ struct Writer {
             v >>= 7;
         } while (v);
     }
-    void put_mask(std::uint64_t m, std::uint32_t bytes) {
-        size += bytes;
-        if (!count_only)
-            for (std::uint32_t i = 0; i < bytes; ++i) out.push_back(char((m >> (8 * i)) & 0xff));
+    void put_mask(std::uint64_t m, std::uint32_t bytes_) {
+        char b[8];
+        for (std::uint32_t i = 0; i < bytes_; ++i) b[i] = char((m >> (8 * i)) & 0xff);
+        bytes(b, bytes_);
     }
 };
 
@@ -187,12 +191,15 @@ Trace make_trace(const Scene& scene, Frame&& f, const NumFormat& format, bool pa
 
 namespace {
 
-void write_payload(Writer& w, const Trace& t) {
-    w.put_str(t.scene_name);
+// The payload (docs/TRACE.md). For workload_hash, `as_workload` leaves out
+// the scene name and writes the pair-less spheres only when `pairless`.
+void write_payload(Writer& w, const Trace& t, bool as_workload = false, bool pairless_wanted = true) {
+    const bool pairless = t.pairless && pairless_wanted;
+    if (!as_workload) w.put_str(t.scene_name);
     w.put_str(t.format.name());
     w.put(t.width); w.put(t.height);
     w.put(t.group_size); w.put(t.shadow_group_size); w.put(t.tris_per_sphere);
-    w.put(std::uint32_t(t.pairless ? 1 : 0));
+    w.put(std::uint32_t(pairless ? 1 : 0));
     w.put(std::uint64_t(t.spheres.size()));
     for (std::size_t i = 0; i < t.spheres.size(); ++i) {
         w.put_vec(t.spheres[i].c);
@@ -220,11 +227,11 @@ void write_payload(Writer& w, const Trace& t) {
         for (std::uint32_t v = 0; v < g.n; ++v)
             for (std::uint32_t h = 0; h < g.n; ++h) w.put_vec(g.dir(h, v));
         w.put(g.counts.plane_tests); w.put(g.counts.sphere_hits); w.put(g.counts.rt_tests);
-        w.put(g.counts.pairless);
+        w.put(pairless ? g.counts.pairless : std::uint64_t(0));
         w.put(std::uint64_t(g.sphere_hits.size()));
         const std::uint32_t mb = mask_bytes(g.n);
         for (const auto& s : g.sphere_hits) { w.put(s.sphere); w.put_mask(s.rows, mb); w.put_mask(s.cols, mb); }
-        if (t.pairless) {
+        if (pairless) {
             // Runs: the gap before each (from sphere 0, then from one past the
             // previous run's end) and its length - 1, as LEB128 varints,
             // after the run count and their byte count.
@@ -237,14 +244,20 @@ void write_payload(Writer& w, const Trace& t) {
                 next = r.end() + 1;
             }
             w.put(std::uint64_t(runs.out.size()));
-            w.size += runs.out.size();
-            if (!w.count_only) w.out += runs.out;
+            w.bytes(runs.out.data(), runs.out.size());
         }
         for (const auto& h : g.hits) { w.put(h.t); w.put(h.tri); }
     }
 }
 
 }  // namespace
+
+std::string workload_hash(const Trace& t, bool pairless) {
+    Writer w;
+    w.hashing = true;
+    write_payload(w, t, true, pairless);
+    return hex64(w.hash);
+}
 
 std::string serialize_trace(const Trace& t) {
     Writer count;

@@ -248,19 +248,19 @@ void ParamSet::load_file(const std::string& path) {
     load_text(text, path);
 }
 
-void ParamSet::set(const std::string& assignment) {
+void ParamSet::set(const std::string& assignment, const std::string& option) {
     auto eq = assignment.find('=');
     if (eq == std::string::npos || eq == 0)
-        throw InputError("--set '" + assignment + "': expected key=value");
+        throw InputError(option + " '" + assignment + "': expected key=value");
     std::string key = assignment.substr(0, eq);
     std::string value = assignment.substr(eq + 1);
     while (!key.empty() && key.back() == ' ') key.pop_back();
     if (!decls_.count(key)) {
         std::string known;
         for (const auto& k : order_) known += (known.empty() ? "" : ", ") + k;
-        throw InputError("--set: unknown " + what_ + " key '" + key + "' (known keys: " + known + ")");
+        throw InputError(option + ": unknown " + what_ + " key '" + key + "' (known keys: " + known + ")");
     }
-    check_nesting(value, "--set " + key, false);
+    check_nesting(value, option + " " + key, false);
     toml::table tbl;
     try {
         tbl = toml::parse("v = " + value);
@@ -268,7 +268,7 @@ void ParamSet::set(const std::string& assignment) {
         tbl = toml::table{};
         tbl.insert("v", value);  // a bare word is a string
     }
-    assign(key, tbl.get("v"), "--set " + key);
+    assign(key, tbl.get("v"), option + " " + key);
 }
 
 const ParamSet::Decl& ParamSet::get(const std::string& key, Type type) const {
@@ -276,6 +276,12 @@ const ParamSet::Decl& ParamSet::get(const std::string& key, Type type) const {
     if (it == decls_.end() || it->second.type != type)
         throw std::logic_error("parameter not declared with this type: " + key);
     return it->second;
+}
+
+ParamSet::Type ParamSet::type(const std::string& key) const {
+    auto it = decls_.find(key);
+    if (it == decls_.end()) throw std::logic_error("parameter not declared: " + key);
+    return it->second.type;
 }
 
 std::int64_t ParamSet::get_int(const std::string& key) const { return get(key, Type::Int).cur.i; }

@@ -3,11 +3,28 @@
 
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "baseline_memory.hpp"
 #include "top.hpp"
+#include "raplas/frontend/trace_io.hpp"
+#include "raplas/util/params.hpp"
 
 namespace raplas {
+
+// Where a result comes from: the machine config keys changed from the named
+// config (or from the defaults when none is named), hashes of the resolved
+// config and of the workload, and the resolved config itself.
+struct Provenance {
+    std::vector<std::pair<std::string, std::string>> overrides;  // key, value as TOML, in declaration order
+    std::string config_hash;    // 16 hex digits
+    std::string workload_hash;  // 16 hex digits (workload_hash in trace_io.hpp)
+    nlohmann::json resolved_config;  // key -> value
+};
+// `named`: the config as loaded from its file (or the defaults); `resolved`:
+// with --set, --iccs and --fifo applied. Both get their numerics resolved.
+Provenance make_provenance(ParamSet named, ParamSet resolved, const Trace& trace, bool pairless);
 
 struct SimReportInput {
     const model::SimResult* result = nullptr;
@@ -17,6 +34,7 @@ struct SimReportInput {
     std::string scene_name;
     double frontend_wall_s = 0;
     const model::MemoryStats* memory = nullptr;  // memory system figures (none: not reported)
+    const Provenance* provenance = nullptr;
 };
 
 // Deterministic figures under their own keys; wall-clock figures only under "wall".

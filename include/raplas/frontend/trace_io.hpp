@@ -70,6 +70,12 @@ Trace make_trace(const Scene& scene, const Frame& frame, const NumFormat& format
 Trace make_trace(const Scene& scene, Frame&& frame, const NumFormat& format, bool pairless = false);
 
 std::string serialize_trace(const Trace& t);
+// What the machine is given to do, as 16 hex digits (FNV-1a, 64 bits, over
+// the trace's payload without the scene name): the same for a trace built in
+// memory and the same trace read from a file; the pair-less spheres count
+// only with `pairless` (icc.triangle_select = any), so a trace made for both
+// readings and one made for `both` alone give the same hash under `both`.
+std::string workload_hash(const Trace& t, bool pairless);
 Trace parse_trace(const std::string& bytes, const std::string& name);
 void write_trace(const std::string& path, const Trace& t);  // atomic
 Trace read_trace(const std::string& path);

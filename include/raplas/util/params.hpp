@@ -33,8 +33,9 @@ public:
     // Reads a TOML file; throws InputError "FILE:LINE: ..." on any problem.
     void load_file(const std::string& path);
     void load_text(const std::string& text, const std::string& origin);
-    // "key=value" (value in TOML syntax; a bare word is taken as a string).
-    void set(const std::string& assignment);
+    // "key=value" (value in TOML syntax; a bare word is taken as a string);
+    // errors name `option` ("--set KEY: ...").
+    void set(const std::string& assignment, const std::string& option = "--set");
 
     std::int64_t get_int(const std::string& key) const;
     double get_real(const std::string& key) const;
@@ -42,6 +43,7 @@ public:
     std::string get_string(const std::string& key) const;
     std::optional<Vec3d> get_vec3(const std::string& key) const;
     bool has(const std::string& key) const { return decls_.count(key) != 0; }
+    Type type(const std::string& key) const;  // of a declared key
     bool is_given(const std::string& key) const;  // set by a file or --set
     // Where a key's value came from ("FILE:LINE", "--set", "default").
     std::string origin(const std::string& key) const;
