@@ -10,10 +10,12 @@
 #include <iostream>
 
 #include "raplas/app/image_io.hpp"
+#include "raplas/app/processes.hpp"
 #include "raplas/app/reports.hpp"
 #include "raplas/frontend/trace_io.hpp"
 #include "raplas/util/atomic_file.hpp"
 #include "raplas/util/error.hpp"
+#include "raplas/util/files.hpp"
 #include "raplas/util/memory_budget.hpp"
 
 #ifndef RAPLAS_VERSION
@@ -121,11 +123,12 @@ bool SceneOptions::load(Scene& out, double& load_s, const std::function<void(Par
     if (!scene.empty()) p.load_file(scene);
     for (const auto& s : sets) p.set(s);
     if (adjust) adjust(p);
-    if (dump_scene) {
+    out = scene_from_params(p, mesh);
+    if (dump_scene) {  // what was chosen automatically, as values that can be pasted into a scene file
+        resolve_scene_params(p, out, mesh.empty() ? mesh : absolute_path(mesh));
         std::cout << p.dump();
         return false;
     }
-    out = scene_from_params(p, mesh);
     for (const auto& w : out.mesh.warnings) std::cerr << "raplas: warning: " << InputError::printable(w) << "\n";
     load_s = since(t0);
     return true;
@@ -163,7 +166,9 @@ int run_cli(int argc, char** argv) {
     add_simulate_options(simulate, sim);
 
     SweepArgs sweep_args;
-    auto* sweep = app.add_subcommand("sweep", "simulate every scene x ICC count x FIFO depth (docs/SWEEPS.md)");
+    sweep_args.command_line = "raplas";
+    for (int i = 1; i < argc; ++i) sweep_args.command_line += " " + shell_quote(argv[i]);
+    auto* sweep = app.add_subcommand("sweep", "simulate every scene x varied key x ICC count x FIFO depth (docs/SWEEPS.md)");
     add_sweep_options(sweep, sweep_args);
 
     // --max-memory: the memory budget of every command (RAPLAS_MAX_MEMORY,

@@ -1,7 +1,10 @@
-// `raplas sweep`: every scene x ICC count x FIFO depth, each point simulated by
-// its own `raplas simulate` process (SystemC allows one simulation per
-// process). Results live in a work dir, one CSV per point, so a sweep that is
-// killed resumes where it stopped (docs/SWEEPS.md).
+// `raplas sweep`: every scene x varied key values x ICC count x FIFO depth,
+// each point simulated by its own `raplas simulate` process (SystemC allows
+// one simulation per process); points that share a workload share one trace.
+// Results live in a work dir, one CSV per point, so a sweep that is killed
+// resumes where it stopped; the result CSV adds the varied keys, speedup and
+// efficiency, and can be checked against a user's reference table
+// (docs/SWEEPS.md).
 #include <dirent.h>
 #include <fcntl.h>
 #include <signal.h>
@@ -20,18 +23,23 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <cmath>
+#include <map>
 #include <optional>
 #include <sstream>
 #include <thread>
 
 #include "commands.hpp"
 #include "config.hpp"
+#include "raplas/app/csv_table.hpp"
+#include "sweep_table.hpp"
 #include "raplas/app/processes.hpp"
 #include "raplas/app/progress.hpp"
 #include "raplas/app/sim_report.hpp"
 #include "raplas/util/atomic_file.hpp"
 #include "raplas/util/error.hpp"
 #include "raplas/util/files.hpp"
+#include "raplas/util/input_file.hpp"
 
 #ifndef RAPLAS_SOURCE_DIR
 #define RAPLAS_SOURCE_DIR "."
@@ -57,25 +65,26 @@ struct Input {
     std::string label() const { return kind == "builtin" ? std::string("built-in scene") : path; }
 };
 
-struct Point {
+struct TraceJob {
     std::size_t input;
-    std::uint32_t iccs, fifo;  // 0: the config's value
+    std::vector<std::string> sets;  // scene --set and --vary values, then the config's workload keys
+    std::string format;             // numerics.format
+    bool any = false;               // some point needs the pair-less spheres (icc.triangle_select = any)
 };
 
 struct Sweep {
     std::vector<Input> inputs;
     std::string config;                                 // as given ("" = defaults)
     std::vector<std::string> scene_sets, config_sets;   // --set, split by what they name
-    std::vector<std::string> trace_sets;                // scene sets, then the config's workload
-    std::string format;                                 // numerics.format of the config
-    std::string triangle_select;                        // icc.triangle_select of the config
-    std::vector<std::uint32_t> iccs{0}, fifo{0};
+    Layout layout;
+    std::vector<TraceJob> traces;
+    std::vector<std::size_t> trace_of;                  // per input x combo
     std::string wd;                                     // absolute
     json spec;
 
-    std::size_t points() const { return inputs.size() * iccs.size() * fifo.size(); }
-    Point point(std::size_t i) const {
-        return {i / (iccs.size() * fifo.size()), iccs[i / fifo.size() % iccs.size()], fifo[i % fifo.size()]};
+    std::size_t points() const { return layout.points(); }
+    std::size_t point_trace(std::size_t i) const {
+        return trace_of[layout.input(i) * layout.combos() + layout.combo(i)];
     }
     std::string trace_file(std::size_t s) const { return wd + "/trace-" + std::to_string(s) + ".trace"; }
     std::string trace_log(std::size_t s) const { return wd + "/trace-" + std::to_string(s) + ".log"; }
@@ -84,28 +93,36 @@ struct Sweep {
 
     std::vector<std::string> trace_argv(std::size_t s) const {
         std::vector<std::string> v{"trace"};
-        const Input& in = inputs[s];
+        const TraceJob& t = traces[s];
+        const Input& in = inputs[t.input];
         if (in.kind != "builtin") v.insert(v.end(), {"--" + in.kind, in.path});
-        for (const auto& x : trace_sets) v.insert(v.end(), {"--set", x});
-        v.insert(v.end(), {"--format", format, "--triangle-select", triangle_select, "--out", trace_file(s), "-q"});
+        for (const auto& x : t.sets) v.insert(v.end(), {"--set", x});
+        v.insert(v.end(), {"--format", t.format, "--triangle-select", t.any ? "any" : "both", "--out", trace_file(s), "-q"});
         return v;
     }
     std::vector<std::string> point_argv(std::size_t i) const {
-        const Point p = point(i);
-        std::vector<std::string> v{"simulate", "--trace", trace_file(p.input)};
+        const auto d = layout.digits(i);
+        std::vector<std::string> v{"simulate", "--trace", trace_file(point_trace(i))};
         if (!config.empty()) v.insert(v.end(), {"--config", config});
         for (const auto& x : config_sets) v.insert(v.end(), {"--set", x});
-        if (p.iccs) v.insert(v.end(), {"--iccs", std::to_string(p.iccs)});
-        if (p.fifo) v.insert(v.end(), {"--fifo", std::to_string(p.fifo)});
+        for (std::size_t k = 0; k < layout.vary.size(); ++k)
+            if (layout.vary[k].config)
+                v.insert(v.end(), {"--set", layout.vary[k].key + "=" + layout.vary[k].values[d[k + 1]]});
+        const std::uint32_t iccs = layout.iccs[d[d.size() - 2]], fifo = layout.fifo[d.back()];
+        if (iccs) v.insert(v.end(), {"--iccs", std::to_string(iccs)});
+        if (fifo) v.insert(v.end(), {"--fifo", std::to_string(fifo)});
         v.insert(v.end(), {"--csv", point_csv(i), "-q"});
         return v;
     }
     std::string describe(std::size_t i) const {
-        const Point p = point(i);
-        std::string d = "point " + std::to_string(i) + " (" + inputs[p.input].label();
-        d += p.iccs ? ", " + std::to_string(p.iccs) + " ICCs" : std::string(", config ICCs");
-        d += p.fifo ? ", FIFO " + std::to_string(p.fifo) : std::string(", config FIFO");
-        return d + ")";
+        const auto d = layout.digits(i);
+        std::string s = "point " + std::to_string(i) + " (" + inputs[d[0]].label();
+        for (std::size_t k = 0; k < layout.vary.size(); ++k)
+            s += ", " + layout.vary[k].key + "=" + layout.vary[k].values[d[k + 1]];
+        const std::uint32_t iccs = layout.iccs[d[d.size() - 2]], fifo = layout.fifo[d.back()];
+        s += iccs ? ", " + std::to_string(iccs) + " ICCs" : std::string(", config ICCs");
+        s += fifo ? ", FIFO " + std::to_string(fifo) : std::string(", config FIFO");
+        return s + ")";
     }
 };
 
@@ -138,13 +155,60 @@ std::vector<Input> ordered_inputs(const SweepArgs& a) {
     return in;
 }
 
+// "V1,V2,A..B": values split at commas outside brackets and quotes; A..B (integers) is every integer
+// from A to B.
+std::vector<std::string> vary_values(const std::string& key, const std::string& list) {
+    const std::string opt = "--vary " + key;
+    std::vector<std::string> items;
+    std::string cur;
+    int depth = 0;
+    char quote = 0;
+    for (char c : list) {
+        if (quote) {
+            if (c == quote) quote = 0;
+        } else if (c == '"' || c == '\'') {
+            quote = c;
+        } else if (c == '[') {
+            ++depth;
+        } else if (c == ']') {
+            --depth;
+        } else if (c == ',' && depth == 0) {
+            items.push_back(trimmed(cur));
+            cur.clear();
+            continue;
+        }
+        cur += c;
+    }
+    items.push_back(trimmed(cur));
+    std::vector<std::string> values;
+    for (const auto& it : items) {
+        if (it.empty()) throw InputError(opt + ": empty value in '" + list + "'");
+        const auto dots = it.find("..");
+        long long lo = 0, hi = 0;
+        if (dots != std::string::npos && parse_int(it.substr(0, dots), lo) && parse_int(it.substr(dots + 2), hi)) {
+            if (hi < lo) throw InputError(opt + ": range " + it + " is empty (write the smaller bound first)");
+            if (hi - lo >= 10000) throw InputError(opt + ": range " + it + " has more than 10000 values");
+            for (long long x = lo; x <= hi; ++x) values.push_back(std::to_string(x));
+        } else {
+            values.push_back(it);
+        }
+    }
+    for (std::size_t i = 0; i < values.size(); ++i)
+        for (std::size_t j = 0; j < i; ++j)
+            if (values[i] == values[j]) throw InputError(opt + ": value " + values[i] + " is given twice");
+    return values;
+}
+
+std::string key_of(const std::string& assignment) { return trimmed(assignment.substr(0, assignment.find('='))); }
+
 // Validates everything a child would reject, so that bad input fails at once.
 Sweep make_sweep(const SweepArgs& a, const std::string& wd) {
     Sweep sw;
     sw.inputs = ordered_inputs(a);
     sw.config = a.config;
-    sw.iccs = checked_list(a.iccs, "--iccs", 4096);
-    sw.fifo = checked_list(a.fifo, "--fifo", 100000000);
+    sw.layout.inputs = sw.inputs.size();
+    sw.layout.iccs = checked_list(a.iccs, "--iccs", 4096);
+    sw.layout.fifo = checked_list(a.fifo, "--fifo", 100000000);
     sw.wd = wd;
 
     ParamSet mp = model::machine_params();
@@ -157,7 +221,7 @@ Sweep make_sweep(const SweepArgs& a, const std::string& wd) {
     ParamSet sp = scene_params();
     for (const auto& s : a.sets) {
         if (s.find('=') == std::string::npos) throw InputError("--set " + s + ": expected key=value");
-        const std::string key = s.substr(0, s.find('='));
+        const std::string key = key_of(s);
         if (mp.has(key) || !sp.has(key)) {
             mp.set(s);
             sw.config_sets.push_back(s);
@@ -166,14 +230,60 @@ Sweep make_sweep(const SweepArgs& a, const std::string& wd) {
             sw.scene_sets.push_back(s);
         }
     }
-    const model::SimConfig cfg = model::config_from_params(mp);
-    sw.format = cfg.format.name();
-    sw.triangle_select = model::triangle_select_name(cfg.icc.decoder.select);
-    sw.trace_sets = sw.scene_sets;
-    if (cfg.group_size) sw.trace_sets.push_back("groups.size=" + std::to_string(cfg.group_size));
-    if (cfg.shadow_group_size) sw.trace_sets.push_back("groups.shadow_size=" + std::to_string(cfg.shadow_group_size));
-    if (cfg.triangles_per_sphere)
-        sw.trace_sets.push_back("spheres.triangles_per_sphere=" + std::to_string(cfg.triangles_per_sphere));
+    json vary_spec = json::array();
+    for (const auto& v : a.vary) {
+        const auto eq = v.find('=');
+        if (eq == std::string::npos || eq == 0) throw InputError("--vary '" + v + "': expected KEY=V1,V2,... or KEY=A..B");
+        Vary x;
+        x.key = key_of(v);
+        x.config = mp.has(x.key) || !sp.has(x.key);
+        if (x.key == "machine.iccs") throw InputError("--vary machine.iccs: give the ICC counts with --iccs");
+        if ((x.key == "fifo.sphere_depth" || x.key == "fifo.triangle_depth") && !a.fifo.empty())
+            throw InputError("--vary " + x.key + ": --fifo sets it for every point; vary one or the other");
+        for (const auto& s : a.sets)
+            if (key_of(s) == x.key) throw InputError("--vary " + x.key + ": also given with --set");
+        for (const auto& y : sw.layout.vary)
+            if (y.key == x.key) throw InputError("--vary " + x.key + ": given twice");
+        x.values = vary_values(x.key, v.substr(eq + 1));
+        ParamSet& target = x.config ? mp : sp;
+        for (const auto& val : x.values) {
+            ParamSet check = target;
+            check.set(x.key + "=" + val, "--vary");
+        }
+        vary_spec.push_back({{"key", x.key}, {"values", x.values}});
+        sw.layout.vary.push_back(std::move(x));
+    }
+
+    // One trace per distinct workload: input, scene keys, the config's workload and numerics keys.
+    const std::size_t combos = sw.layout.combos();
+    std::map<std::tuple<std::size_t, std::vector<std::string>, std::string>, std::size_t> trace_index;
+    for (std::size_t s = 0; s < sw.inputs.size(); ++s) {
+        for (std::size_t c = 0; c < combos; ++c) {
+            const auto vi = sw.layout.combo_values(c);
+            ParamSet m = mp;
+            std::vector<std::string> sets = sw.scene_sets;
+            for (std::size_t k = 0; k < sw.layout.vary.size(); ++k) {
+                const std::string as = sw.layout.vary[k].key + "=" + sw.layout.vary[k].values[vi[k]];
+                if (sw.layout.vary[k].config) m.set(as, "--vary");
+                else sets.push_back(as);
+            }
+            const model::SimConfig cfg = model::config_from_params(m);
+            if (cfg.group_size) sets.push_back("groups.size=" + std::to_string(cfg.group_size));
+            if (cfg.shadow_group_size) sets.push_back("groups.shadow_size=" + std::to_string(cfg.shadow_group_size));
+            if (cfg.triangles_per_sphere)
+                sets.push_back("spheres.triangles_per_sphere=" + std::to_string(cfg.triangles_per_sphere));
+            const std::string format = cfg.format.name();
+            const bool any = cfg.icc.decoder.select == model::TriangleSelect::any;
+            const auto key = std::make_tuple(s, sets, format);
+            auto it = trace_index.find(key);
+            if (it == trace_index.end()) {
+                it = trace_index.emplace(key, sw.traces.size()).first;
+                sw.traces.push_back({s, sets, format, any});
+            }
+            sw.traces[it->second].any = sw.traces[it->second].any || any;
+            sw.trace_of.push_back(it->second);
+        }
+    }
 
     json inputs = json::array();
     for (const Input& in : sw.inputs) {
@@ -196,7 +306,33 @@ Sweep make_sweep(const SweepArgs& a, const std::string& wd) {
                {"iccs", a.iccs},
                {"fifo", a.fifo},
                {"points", sw.points()}};
+    if (!vary_spec.empty()) sw.spec["vary"] = vary_spec;
     return sw;
+}
+
+// The layout a work dir's sweep.json describes (for --merge without the sweep's options).
+Layout layout_of(const json& spec, const std::string& path) {
+    Layout l;
+    try {
+        l.inputs = spec.at("inputs").size();
+        if (spec.contains("vary"))
+            for (const auto& v : spec.at("vary")) {
+                Vary x;
+                x.key = v.at("key").get<std::string>();
+                x.values = v.at("values").get<std::vector<std::string>>();
+                if (x.values.empty()) throw std::runtime_error("no values");
+                l.vary.push_back(x);
+            }
+        const auto iccs = spec.at("iccs").get<std::vector<std::uint32_t>>();
+        const auto fifo = spec.at("fifo").get<std::vector<std::uint32_t>>();
+        if (!iccs.empty()) l.iccs = iccs;
+        if (!fifo.empty()) l.fifo = fifo;
+    } catch (const std::exception&) {
+        throw InputError(path + ": not a sweep description (inputs, vary, iccs or fifo malformed)");
+    }
+    if (l.inputs == 0 || l.points() != spec["points"].get<std::size_t>())
+        throw InputError(path + ": not a sweep description (points do not match inputs, vary, iccs and fifo)");
+    return l;
 }
 
 // ---- the work dir ------------------------------------------------------------
@@ -233,7 +369,7 @@ void check_same_sweep(const json& there, const json& here, const std::string& wd
     if (ia.is_array() && ib.is_array() && ia.size() == ib.size())
         for (std::size_t k = 0; k < ia.size(); ++k) changed(ia[k], ib[k]);
     changed(there.value("config", json()), here.value("config", json()));
-    for (const char* key : {"raplas", "inputs", "config", "sets", "iccs", "fifo"}) {
+    for (const char* key : {"raplas", "inputs", "config", "sets", "vary", "iccs", "fifo"}) {
         const json a = there.value(key, json()), b = here.value(key, json());
         if (a != b) throw InputError(lead + key + " " + a.dump() + " there, " + b.dump() + " here" + tail);
     }
@@ -306,54 +442,6 @@ std::unique_ptr<WorkDirLock> open_work_dir(const Sweep& sw) {
 
 // ---- results -----------------------------------------------------------------
 
-// Point results in point order; --out is made from them alone.
-class Results {
-public:
-    Results(std::string wd, std::size_t n) : wd_(std::move(wd)), rows_(n) {}
-
-    std::string file(std::size_t i) const { return wd_ + "/point-" + std::to_string(i) + ".csv"; }
-
-    // Reads point i's CSV if it exists; returns whether it does.
-    bool load(std::size_t i) {
-        const std::string path = file(i);
-        if (!is_file(path)) return false;
-        const std::string text = read_file(path);
-        const auto nl = text.find('\n');
-        if (nl == std::string::npos || nl + 1 >= text.size() || text.back() != '\n' ||
-            text.find('\n', nl + 1) != text.size() - 1)
-            throw InputError(path + ": not a point result (a header and one row); remove it to run the point again");
-        const std::string header = text.substr(0, nl + 1);
-        if (header_from_ == npos) {
-            header_ = header;
-            header_from_ = i;
-        } else if (header != header_) {
-            throw InputError(path + ": columns differ from " + file(header_from_) +
-                             " (made by another raplas version?); remove the work dir's point files to redo them");
-        }
-        rows_[i] = text.substr(nl + 1);
-        return true;
-    }
-    bool has(std::size_t i) const { return rows_[i].has_value(); }
-    std::size_t count() const {
-        std::size_t n = 0;
-        for (const auto& r : rows_) n += r.has_value();
-        return n;
-    }
-    std::string csv() const {
-        std::string s = header_from_ == npos ? sim_csv_header() : header_;
-        for (const auto& r : rows_)
-            if (r) s += *r;
-        return s;
-    }
-
-private:
-    static constexpr std::size_t npos = std::size_t(-1);
-    std::string wd_;
-    std::vector<std::optional<std::string>> rows_;
-    std::string header_;
-    std::size_t header_from_ = npos;
-};
-
 void check_out_path(const std::string& out) {
     if (out.empty()) throw InputError("--out: give the result CSV");
     if (fs::is_directory(out)) throw InputError(out + ": is a directory");
@@ -361,7 +449,28 @@ void check_out_path(const std::string& out) {
     if (!fs::is_directory(parent)) throw InputError(out + ": directory " + parent.string() + " does not exist");
 }
 
-void write_out(const std::string& out, const Results& r) { write_file_atomically(out, r.csv()); }
+CsvTable write_out(const std::string& out, const Results& r, const Layout& l, const Derived& d) {
+    CsvTable t = result_table(r, l, d);
+    write_file_atomically(out, to_csv(t));
+    return t;
+}
+
+// --update and --check on the finished table; returns the exit code they ask for (0 or 1).
+int reference_tables(const CsvTable& t, const SweepArgs& a, const Layout& l, bool update = true) {
+    if (update && !a.update.empty()) {
+        CsvTable u = t;
+        u.comments = {" generated by: " + a.command_line, " raplas " + std::string(RAPLAS_VERSION) +
+                                                              "; rerun with --update to regenerate, --check to compare"};
+        write_file_atomically(a.update, to_csv(u));
+        if (!a.quiet) std::printf("wrote the reference table %s (%zu rows)\n", a.update.c_str(), t.rows.size());
+    }
+    if (a.check.empty()) return 0;
+    const std::size_t diffs = check_reference(t, a.check, l, tolerances_of(a.tolerance), a.quiet);
+    if (diffs == 0) return 0;
+    std::fprintf(stderr, "raplas: error: %s: the sweep differs from the reference table (%zu difference%s, listed on stdout)\n",
+                 a.check.c_str(), diffs, diffs == 1 ? "" : "s");
+    return kExitInternalError;
+}
 
 // ---- child processes -----------------------------------------------------------
 
@@ -396,11 +505,13 @@ struct Progress {
 // ---- modes ---------------------------------------------------------------------
 
 int run_sweep(const Sweep& sw, const SweepArgs& a) {
+    const Derived dv = derived_of(a.base_iccs, a.normalize, sw.layout);
+    if (!a.check.empty()) tolerances_of(a.tolerance);
     const auto lock = open_work_dir(sw);
     const std::string out = a.out;
     remove_stale_temps(fs::absolute(out).parent_path().string(), "." + fs::path(out).filename().string() + ".tmp");
     const std::size_t n = sw.points();
-    const std::size_t ns = sw.inputs.size();
+    const std::size_t ns = sw.traces.size();
     Results results(sw.wd, n);
 
     enum class St { pending, running, done, failed };
@@ -410,14 +521,14 @@ int run_sweep(const Sweep& sw, const SweepArgs& a) {
             point[i] = St::done;
             ::unlink(sw.point_log(i).c_str());
         }
-    write_out(out, results);
+    write_out(out, results, sw.layout, dv);
 
     Progress pr(a.progress || (::isatty(2) && !a.quiet), ::isatty(2));
     pr.total = n;
     pr.done = results.count();
     for (std::size_t s = 0; s < ns; ++s) {
         bool needed = false;
-        for (std::size_t i = 0; i < n; ++i) needed = needed || (point[i] == St::pending && sw.point(i).input == s);
+        for (std::size_t i = 0; i < n; ++i) needed = needed || (point[i] == St::pending && sw.point_trace(i) == s);
         if (needed && !is_file(sw.trace_file(s))) {
             trace[s] = St::pending;
             ++pr.traces_total;
@@ -450,7 +561,7 @@ int run_sweep(const Sweep& sw, const SweepArgs& a) {
         for (std::size_t s = 0; s < ns; ++s)
             if (trace[s] == St::pending) return std::make_pair(true, s);
         for (std::size_t i = 0; i < n; ++i)
-            if (point[i] == St::pending && trace[sw.point(i).input] == St::done) return std::make_pair(false, i);
+            if (point[i] == St::pending && trace[sw.point_trace(i)] == St::done) return std::make_pair(false, i);
         return std::nullopt;
     };
 
@@ -501,12 +612,13 @@ int run_sweep(const Sweep& sw, const SweepArgs& a) {
                 trace[c.index] = St::failed;
                 std::size_t skipped = 0;
                 for (std::size_t i = 0; i < n; ++i)
-                    if (point[i] == St::pending && sw.point(i).input == c.index) {
+                    if (point[i] == St::pending && sw.point_trace(i) == c.index) {
                         point[i] = St::failed;
                         ++skipped;
                     }
                 pr.failed += skipped;
-                fail(input, "trace of " + sw.inputs[c.index].label() + " (" + std::to_string(skipped) + " points)",
+                fail(input, "trace " + std::to_string(c.index) + " of " + sw.inputs[sw.traces[c.index].input].label() +
+                                " (" + std::to_string(skipped) + " points)",
                      c.argv, ok ? "no trace written" : why, c.log);
             }
             ++pr.traces_done;
@@ -515,7 +627,7 @@ int run_sweep(const Sweep& sw, const SweepArgs& a) {
             ++pr.run_done;
             if (have) {
                 ++pr.done;
-                write_out(out, results);
+                write_out(out, results, sw.layout, dv);
             }
             if (ok && have) {
                 point[c.index] = St::done;
@@ -529,7 +641,7 @@ int run_sweep(const Sweep& sw, const SweepArgs& a) {
         pr.draw();
     }
     ::sigprocmask(SIG_SETMASK, &old_mask, nullptr);
-    write_out(out, results);
+    const CsvTable table = write_out(out, results, sw.layout, dv);
     pr.draw();
     pr.line.finish();
 
@@ -540,13 +652,15 @@ int run_sweep(const Sweep& sw, const SweepArgs& a) {
         std::fflush(stdout);
     }
     if (input_failure || internal_failure) {
+        if (!a.check.empty()) reference_tables(table, a, sw.layout, false);
         std::fprintf(stderr,
                      "raplas: error: %zu of %zu points failed; %s holds %zu rows; run the same command again to retry "
-                     "the points without a result\n",
-                     pr.failed, n, out.c_str(), results.count());
+                     "the points without a result%s\n",
+                     pr.failed, n, out.c_str(), results.count(),
+                     a.update.empty() ? "" : (" (" + a.update + " not updated)").c_str());
         return internal_failure ? kExitInternalError : kExitInputError;
     }
-    return 0;
+    return reference_tables(table, a, sw.layout);
 }
 
 int emit_jobs(const Sweep& sw, const SweepArgs& a) {
@@ -559,7 +673,7 @@ int emit_jobs(const Sweep& sw, const SweepArgs& a) {
         return cd + "{ test -f " + shell_quote(product) + " || " + shell_quote(exe) + " " + shell_join(argv) + "; }\n";
     };
     std::string traces, points;
-    for (std::size_t s = 0; s < sw.inputs.size(); ++s) traces += line(sw.trace_file(s), sw.trace_argv(s));
+    for (std::size_t s = 0; s < sw.traces.size(); ++s) traces += line(sw.trace_file(s), sw.trace_argv(s));
     for (std::size_t i = 0; i < sw.points(); ++i) points += line(sw.point_csv(i), sw.point_argv(i));
     const std::string traces_file = a.emit_jobs + ".traces";
     write_file_atomically(traces_file, traces);
@@ -570,7 +684,7 @@ int emit_jobs(const Sweep& sw, const SweepArgs& a) {
                     "  parallel < %s && parallel < %s\n"
                     "then gather the results (docs/SWEEPS.md):\n"
                     "  %s sweep --merge --work-dir %s --out %s\n",
-                    traces_file.c_str(), lines(sw.inputs.size()).c_str(), a.emit_jobs.c_str(),
+                    traces_file.c_str(), lines(sw.traces.size()).c_str(), a.emit_jobs.c_str(),
                     lines(sw.points()).c_str(),
                     shell_quote(traces_file).c_str(), shell_quote(a.emit_jobs).c_str(), shell_quote(exe).c_str(),
                     shell_quote(sw.wd).c_str(), shell_quote(a.out).c_str());
@@ -581,24 +695,29 @@ int emit_jobs(const Sweep& sw, const SweepArgs& a) {
 int merge(const std::string& wd, const SweepArgs& a, const Sweep* sw) {
     const json spec = read_spec(wd);
     if (sw) check_same_sweep(spec, sw->spec, wd);
+    const Layout layout = layout_of(spec, spec_path(wd));
+    const Derived dv = derived_of(a.base_iccs, a.normalize, layout);
+    if (!a.check.empty()) tolerances_of(a.tolerance);
     const std::size_t n = spec["points"].get<std::size_t>();
     Results results(wd, n);
     std::vector<std::size_t> missing;
     for (std::size_t i = 0; i < n; ++i)
         if (!results.load(i)) missing.push_back(i);
-    write_out(a.out, results);
+    const CsvTable table = write_out(a.out, results, layout, dv);
     if (!missing.empty()) {
         std::string list;
         for (std::size_t k = 0; k < missing.size() && k < 5; ++k)
             list += (k ? ", " : "") + std::string("point-") + std::to_string(missing[k]) + ".csv";
         if (missing.size() > 5) list += ", ...";
+        if (!a.check.empty()) reference_tables(table, a, layout, false);
         std::fprintf(stderr,
-                     "raplas: error: %s: %zu of %zu points have no result (%s); %s holds the %zu finished ones\n",
-                     wd.c_str(), missing.size(), n, list.c_str(), a.out.c_str(), n - missing.size());
+                     "raplas: error: %s: %zu of %zu points have no result (%s); %s holds the %zu finished ones%s\n",
+                     wd.c_str(), missing.size(), n, list.c_str(), a.out.c_str(), n - missing.size(),
+                     a.update.empty() ? "" : (" (" + a.update + " not updated)").c_str());
         return kExitInputError;
     }
     if (!a.quiet) std::printf("merged %zu points from %s into %s\n", n, wd.c_str(), a.out.c_str());
-    return 0;
+    return reference_tables(table, a, layout);
 }
 
 }  // namespace
@@ -609,6 +728,9 @@ void add_sweep_options(CLI::App* cmd, SweepArgs& a) {
     cmd->add_option("--mesh", a.meshes, "any OBJ file, framed and lit automatically (repeatable)");
     cmd->add_option("--config,-c", a.config, "machine config: a TOML file or a name in configs/ (paper, fpga)");
     cmd->add_option("--set", a.sets, "override a config or scene key for every point (repeatable)");
+    cmd->add_option("--vary", a.vary,
+                    "sweep a config or scene key too: KEY=V1,V2,... or KEY=A..B (integers A to B), repeatable; "
+                    "points are the cross product, and each varied key is a CSV column (docs/SWEEPS.md)");
     cmd->add_option("--iccs,-k", a.iccs, "ICC counts, e.g. 1,4,16,32,48 (default: the config's)")->delimiter(',');
     cmd->add_option("--fifo,-d", a.fifo, "Sphere and Triangle FIFO depths, e.g. 10,100,1000 (default: the config's)")
         ->delimiter(',');
@@ -620,6 +742,18 @@ void add_sweep_options(CLI::App* cmd, SweepArgs& a) {
                     "write the commands to FILE.traces and FILE (one per line, for GNU parallel or a Slurm array) "
                     "instead of running them");
     cmd->add_flag("--merge", a.merge, "gather the work dir's point results into --out and exit");
+    cmd->add_option("--base-iccs", a.base_iccs,
+                    "the ICC count that speedup and efficiency are relative to, in each series (default: the "
+                    "smallest ICC count of the series)")
+        ->check(CLI::Range(1u, 4096u));
+    cmd->add_option("--normalize", a.normalize,
+                    "KEY=VALUE: add area_time_normalized, each point's area x time over that of the point with "
+                    "KEY=VALUE and everything else equal (KEY: a --vary key, iccs or fifo)");
+    cmd->add_option("--check", a.check,
+                    "compare the result with a reference table (CSV): print every differing cell, exit 1 if any");
+    cmd->add_option("--tolerance", a.tolerance,
+                    "COLUMN=REL: --check accepts a relative difference up to REL in that column (repeatable)");
+    cmd->add_option("--update", a.update, "write the result as a reference table for --check (atomically)");
     cmd->add_flag("--progress", a.progress, "progress on stderr (default: when stderr is a terminal)");
     cmd->add_flag("-q,--quiet", a.quiet, "no summary on stdout");
 }
@@ -630,13 +764,17 @@ int cmd_sweep(const SweepArgs& a) {
     if (a.merge) {
         if (!a.emit_jobs.empty()) throw InputError("give either --merge or --emit-jobs, not both");
         const bool defines = !a.scenes.empty() || !a.meshes.empty() || !a.config.empty() || !a.sets.empty() ||
-                             !a.iccs.empty() || !a.fifo.empty();
+                             !a.vary.empty() || !a.iccs.empty() || !a.fifo.empty();
         if (!defines) return merge(wd, a, nullptr);
         const Sweep sw = make_sweep(a, wd);
         return merge(wd, a, &sw);
     }
     const Sweep sw = make_sweep(a, wd);
-    if (!a.emit_jobs.empty()) return emit_jobs(sw, a);
+    if (!a.emit_jobs.empty()) {
+        if (!a.check.empty() || !a.update.empty())
+            throw InputError("--check and --update need the results: give them to --merge after the jobs ran");
+        return emit_jobs(sw, a);
+    }
     return run_sweep(sw, a);
 }
 

@@ -47,10 +47,16 @@ struct SweepArgs {
     std::vector<std::string> scenes, meshes;
     std::string config, out, work_dir, emit_jobs;
     std::vector<std::string> sets;
+    std::vector<std::string> vary;          // KEY=V1,V2,... or KEY=A..B (repeatable)
     std::vector<std::uint32_t> iccs, fifo;  // empty: the config's value
+    std::uint32_t base_iccs = 0;            // speedup base; 0: the smallest ICC count of each series
+    std::string normalize;                  // KEY=VALUE: area_time over that point's (area_time_normalized)
+    std::string check, update;              // reference tables
+    std::vector<std::string> tolerance;     // COL=REL for --check
     unsigned jobs = 0;                      // 0: number of cores
     bool merge = false, progress = false, quiet = false;
     const CLI::App* cmd = nullptr;          // gives the order of --scene and --mesh
+    std::string command_line;               // as typed (the --update header)
 };
 
 void add_sweep_options(CLI::App* cmd, SweepArgs& a);

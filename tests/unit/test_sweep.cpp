@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <algorithm>
 #include <map>
 #include <set>
 #include <sstream>
@@ -24,6 +25,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 using namespace raplas_test;
 
@@ -88,12 +90,12 @@ TEST_F(Sweep, RowsInPointOrderMatchSeparateSimulateRuns) {
     ASSERT_FALSE(reference.empty());
     const auto rows = parse_csv(reference);
     ASSERT_EQ(rows.size(), kIccs.size() * kFifo.size());
-    ASSERT_EQ(lines_of(reference)[0].rfind("scene,config,iccs,fifo_depth,", 0), 0u) << lines_of(reference)[0];
+    ASSERT_EQ(lines_of(reference)[0].rfind("scene,config,overrides,iccs,fifo_depth,", 0), 0u) << lines_of(reference)[0];
     std::size_t i = 0;
     for (unsigned k : kIccs)
         for (unsigned d : kFifo) {
             SCOPED_TRACE("iccs " + std::to_string(k) + ", fifo " + std::to_string(d));
-            const auto& row = rows[i++];
+            auto row = rows[i++];
             EXPECT_EQ(row.at("scene"), "builtin");
             EXPECT_EQ(row.at("iccs"), std::to_string(k));
             EXPECT_EQ(row.at("fifo_depth"), std::to_string(d));
@@ -105,6 +107,8 @@ TEST_F(Sweep, RowsInPointOrderMatchSeparateSimulateRuns) {
             const auto single = parse_csv(slurp(dir / "one.csv"));
             ASSERT_EQ(single.size(), 1u);
             EXPECT_EQ(row.at("total_cycles"), single[0].at("total_cycles"));
+            // The sweep adds the series' figures to simulate's columns.
+            for (const char* derived : {"speedup", "efficiency", "base_iccs"}) EXPECT_EQ(row.erase(derived), 1u);
             EXPECT_EQ(row, single[0]);
         }
 }
@@ -243,6 +247,199 @@ TEST_F(Sweep, FailingTraceIsReportedAndTheOtherPointsFinish) {
     EXPECT_EQ(rows[1].at("iccs"), "2");
     EXPECT_TRUE(fs::exists(dir / "f.csv.d" / "point-2.csv"));
     EXPECT_FALSE(fs::exists(dir / "f.csv.d" / "point-0.csv"));
+}
+
+// ---- --vary, derived figures, reference tables ---------------------------------
+
+double num(const std::map<std::string, std::string>& row, const std::string& col) { return std::stod(row.at(col)); }
+
+// A config key and a scene key varied: 2 x 2 combinations x 2 ICC counts.
+std::vector<std::string> vary_args(const std::string& out, const std::string& iccs = "1,2") {
+    return {"sweep", "--set", "image.width=16", "--set", "image.height=16", "--set", "groups.size=8",
+            "--vary", "icc.rti_pipes=1..2", "--vary", "groups.shadow_size=2,4", "--iccs", iccs, "--fifo", "10",
+            "--out", out, "-q"};
+}
+
+TEST_F(Sweep, VaryIsACrossProductWhosePointsShareTracesAndMatchSimulate) {
+    const RunResult r = run(vary_args("v.csv"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    const std::string text = slurp(dir / "v.csv");
+    EXPECT_EQ(lines_of(text)[0].rfind("scene,config,icc.rti_pipes,groups.shadow_size,overrides,iccs,", 0), 0u)
+        << lines_of(text)[0];
+    const auto rows = parse_csv(text);
+    ASSERT_EQ(rows.size(), 8u);
+    // The scene key changes the workload, the config key does not: two traces.
+    std::size_t traces = 0;
+    for (const auto& e : fs::directory_iterator(dir / "v.csv.d")) traces += e.path().extension() == ".trace";
+    EXPECT_EQ(traces, 2u);
+    std::size_t i = 0;
+    std::set<std::string> workloads, configs;
+    for (const char* pipes : {"1", "2"})
+        for (const char* shadow : {"2", "4"})
+            for (const char* k : {"1", "2"}) {
+                SCOPED_TRACE(std::string("rti_pipes ") + pipes + ", shadow_size " + shadow + ", iccs " + k);
+                auto row = rows[i++];
+                EXPECT_EQ(row.at("icc.rti_pipes"), pipes);
+                EXPECT_EQ(row.at("groups.shadow_size"), shadow);
+                EXPECT_EQ(row.at("iccs"), k);
+                workloads.insert(row.at("workload_hash"));
+                configs.insert(row.at("config_hash"));
+                // The overridden config keys are named; the scene key is the workload's.
+                if (std::string(pipes) == "2") EXPECT_THAT(row.at("overrides"), HasSubstr("icc.rti_pipes=2"));
+                else EXPECT_THAT(row.at("overrides"), Not(HasSubstr("icc.rti_pipes"))) << "1 is the default";
+                const RunResult one = run({"simulate", "--set", "image.width=16", "--set", "image.height=16", "--set",
+                                           "groups.size=8", "--set", std::string("groups.shadow_size=") + shadow,
+                                           "--set", std::string("icc.rti_pipes=") + pipes, "--iccs", k, "--fifo",
+                                           "10", "--csv", "one.csv", "-q"});
+                ASSERT_EQ(one.code, 0) << one.err;
+                const auto single = parse_csv(slurp(dir / "one.csv"));
+                ASSERT_EQ(single.size(), 1u);
+                for (const char* extra : {"icc.rti_pipes", "groups.shadow_size", "speedup", "efficiency", "base_iccs"})
+                    EXPECT_EQ(row.erase(extra), 1u) << extra;
+                EXPECT_EQ(row, single[0]);
+            }
+    EXPECT_EQ(workloads.size(), 2u);
+    EXPECT_EQ(configs.size(), 4u);  // rti_pipes x iccs
+}
+
+TEST_F(Sweep, VaryRefusesWhatCannotBeSwept) {
+    const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+        {{"--vary", "icc.rti_pipes=0..2"}, "--vary icc.rti_pipes: config key 'icc.rti_pipes' = 0 is out of range [1, 64]"},
+        {{"--vary", "icc.rti_pipes=3..1"}, "--vary icc.rti_pipes: range 3..1 is empty"},
+        {{"--vary", "icc.rti_pipes=1,2,1"}, "--vary icc.rti_pipes: value 1 is given twice"},
+        {{"--vary", "icc.rti_pipes=1,,2"}, "--vary icc.rti_pipes: empty value"},
+        {{"--vary", "icc.rti_pipes"}, "expected KEY=V1,V2,... or KEY=A..B"},
+        {{"--vary", "machine.iccs=1,2"}, "give the ICC counts with --iccs"},
+        {{"--vary", "fifo.sphere_depth=1,2", "--fifo", "10"}, "--fifo sets it for every point"},
+        {{"--vary", "icc.rti_pipes=1,2", "--set", "icc.rti_pipes=3"}, "also given with --set"},
+        {{"--vary", "icc.rti_pipes=1,2", "--vary", "icc.rti_pipes=3"}, "given twice"},
+        {{"--vary", "icc.triangle_select=any,some"}, "is not one of: both, any"},
+        {{"--vary", "icc.rti_pipes=1,2", "--normalize", "icc.rti_pipes=3"}, "--normalize icc.rti_pipes: 3 is not one of"},
+        {{"--normalize", "icc.psi_pipes=8"}, "--normalize icc.psi_pipes: not a varied key"},
+        {{"--iccs", "1,2", "--base-iccs", "4"}, "--base-iccs 4: not one of the sweep's --iccs"},
+        {{"--check", "ref.csv", "--tolerance", "total_cycles=-1"}, "--tolerance total_cycles: '-1' is not a relative tolerance"},
+    };
+    for (const auto& [args, message] : cases) {
+        SCOPED_TRACE(::testing::PrintToString(args));
+        const RunResult r = run(plus(plus({"sweep", "--out", "x.csv"}, args), {"-q"}));
+        EXPECT_EQ(r.code, 2);
+        EXPECT_THAT(r.err, HasSubstr(message));
+        EXPECT_EQ(lines_of(r.err).size(), 1u) << r.err;
+        EXPECT_FALSE(fs::exists(dir / "x.csv.d")) << "a refused sweep must leave nothing";
+    }
+}
+
+TEST_F(Sweep, SpeedupAndEfficiencyAreRelativeToTheBaseOfEachSeries) {
+    const auto base_args = vary_args("d.csv", "1,2,3");
+    const RunResult r = run(plus(base_args, {"--normalize", "icc.rti_pipes=1"}));
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto rows = parse_csv(slurp(dir / "d.csv"));
+    ASSERT_EQ(rows.size(), 12u);
+    // Rows of one series are consecutive (ICC count varies fastest but one, FIFO depth fixed).
+    for (std::size_t s = 0; s < 4; ++s) {
+        const auto& base = rows[3 * s];
+        EXPECT_EQ(base.at("iccs"), "1");
+        for (std::size_t j = 0; j < 3; ++j) {
+            const auto& row = rows[3 * s + j];
+            const double speedup = num(base, "total_cycles") / num(row, "total_cycles");
+            EXPECT_NEAR(num(row, "speedup"), speedup, 1e-9 * speedup);
+            EXPECT_NEAR(num(row, "efficiency"), speedup / num(row, "iccs"), 1e-9);
+            EXPECT_EQ(row.at("base_iccs"), "1");
+            // area x time over the rti_pipes = 1 point with everything else equal
+            const auto& ref = rows[(s % 2) * 3 + j];
+            EXPECT_EQ(ref.at("icc.rti_pipes"), "1");
+            EXPECT_EQ(ref.at("groups.shadow_size"), row.at("groups.shadow_size"));
+            EXPECT_NEAR(num(row, "area_time_normalized"), num(row, "area_time") / num(ref, "area_time"), 1e-9);
+        }
+    }
+    EXPECT_GT(num(rows[2], "speedup"), 1.5) << "three ICCs should be well ahead of one";
+    // Another base: the same work dir, every point done; only the derived columns move.
+    const RunResult b = run(plus(vary_args("d2.csv", "1,2,3"), {"--base-iccs", "2", "--work-dir", "d.csv.d"}));
+    ASSERT_EQ(b.code, 0) << b.err;
+    const auto rows2 = parse_csv(slurp(dir / "d2.csv"));
+    ASSERT_EQ(rows2.size(), 12u);
+    for (std::size_t i = 0; i < 12; ++i) {
+        const auto& base = rows2[i / 3 * 3 + 1];
+        EXPECT_EQ(rows2[i].at("total_cycles"), rows[i].at("total_cycles"));
+        EXPECT_EQ(rows2[i].at("base_iccs"), "2");
+        const double speedup = num(base, "total_cycles") / num(rows2[i], "total_cycles");
+        EXPECT_NEAR(num(rows2[i], "speedup"), speedup, 1e-9 * speedup);
+        EXPECT_NEAR(num(rows2[i], "efficiency"), speedup * 2 / num(rows2[i], "iccs"), 1e-9);
+        EXPECT_EQ(rows2[i].count("area_time_normalized"), 0u);
+    }
+}
+
+TEST_F(Sweep, ReferenceTablesUpdateCheckAndShowEveryDifference) {
+    const auto args = plus(sweep_args("c.csv"), {"--jobs", "2"});
+    const RunResult u = run(plus(args, {"--update", "ref.csv"}));
+    ASSERT_EQ(u.code, 0) << u.err;
+    const std::string ref = slurp(dir / "ref.csv");
+    const auto ref_lines = lines_of(ref);
+    ASSERT_GE(ref_lines.size(), 3u);
+    EXPECT_EQ(ref_lines[0].rfind("# generated by: raplas sweep ", 0), 0u) << ref_lines[0];
+    EXPECT_THAT(ref_lines[0], HasSubstr("--update ref.csv"));
+    EXPECT_EQ(ref.substr(ref.find("\nscene,") + 1), slurp(dir / "c.csv")) << "the table is the result CSV";
+
+    // Equal: exit 0.
+    const RunResult same = run(plus(args, {"--check", "ref.csv"}));
+    EXPECT_EQ(same.code, 0) << same.err;
+
+    // One cell changed, one row removed, one row added (a copy with another ICC count).
+    std::vector<std::string> lines = ref_lines;
+    const auto header = split(lines[2]);
+    const std::size_t cyc = std::find(header.begin(), header.end(), "total_cycles") - header.begin();
+    const std::size_t iccs = std::find(header.begin(), header.end(), "iccs") - header.begin();
+    auto cells = split(lines[3]);
+    const std::string old_cycles = cells[cyc];
+    cells[cyc] = std::to_string(std::stoull(old_cycles) + 1000);
+    auto join = [](const std::vector<std::string>& v) {
+        std::string s;
+        for (const auto& c : v) s += (s.empty() ? "" : ",") + c;
+        return s;
+    };
+    lines[3] = join(cells);
+    auto extra = split(lines[4]);
+    extra[iccs] = "99";
+    const std::string removed = lines[5];
+    lines.erase(lines.begin() + 5);
+    lines.push_back(join(extra));
+    std::string edited;
+    for (const auto& l : lines) edited += l + "\n";
+    std::ofstream(dir / "edited.csv") << edited;
+    const RunResult diff = run(plus(args, {"--check", "edited.csv"}));
+    EXPECT_EQ(diff.code, 1) << diff.err;
+    EXPECT_THAT(diff.err, HasSubstr("edited.csv: the sweep differs from the reference table (3 differences"));
+    EXPECT_THAT(diff.out, HasSubstr("scene=builtin iccs=1 fifo_depth=2: total_cycles " + old_cycles + " (reference " +
+                                    cells[cyc] + ", "));
+    EXPECT_THAT(diff.out, HasSubstr("iccs=99 fifo_depth=10: row only in the reference"));
+    const auto removed_cells = split(removed);
+    EXPECT_THAT(diff.out, HasSubstr("iccs=" + removed_cells[iccs] + " fifo_depth=" +
+                                    removed_cells[std::find(header.begin(), header.end(), "fifo_depth") - header.begin()] +
+                                    ": row not in the reference"));
+    // A tolerance covers the changed cell, not the rows.
+    const RunResult tol = run(plus(args, {"--check", "edited.csv", "--tolerance", "total_cycles=0.5",
+                                          "--tolerance", "speedup=0.5", "--tolerance", "efficiency=0.5",
+                                          "--tolerance", "time_ms=0.5", "--tolerance", "area_time=0.5",
+                                          "--tolerance", "triangle_link_avg_gbps=0.5", "--tolerance",
+                                          "rti_utilisation=0.5"}));
+    EXPECT_EQ(tol.code, 1);
+    EXPECT_THAT(tol.err, HasSubstr("(2 differences"));
+    EXPECT_THAT(tol.out, Not(HasSubstr("total_cycles")));
+
+    // Not a table of this sweep, or not a table: exit 2, one line.
+    std::ofstream(dir / "quotes.csv") << "scene,iccs\n\"builtin,1\n";
+    std::ofstream(dir / "ragged.csv") << "scene,iccs,fifo_depth\nbuiltin,1\n";
+    std::ofstream(dir / "nokey.csv") << "scene,iccs\nbuiltin,1\n";
+    for (const auto& [file, message] : std::vector<std::pair<std::string, std::string>>{
+             {"quotes.csv", "quotes.csv:2: not a CSV table (a quote out of place, or a quoted cell not closed)"},
+             {"ragged.csv", "ragged.csv:2: 2 cells, but the header has 3 columns"},
+             {"nokey.csv", "nokey.csv: no column 'fifo_depth'"},
+             {"missing.csv", "missing.csv: cannot open reference table: No such file or directory"}}) {
+        const RunResult bad = run(plus(args, {"--check", file}));
+        EXPECT_EQ(bad.code, 2) << file;
+        EXPECT_THAT(bad.err, HasSubstr(message));
+        EXPECT_EQ(lines_of(bad.err).size(), 1u) << bad.err;
+    }
 }
 
 }  // namespace
