@@ -1,6 +1,8 @@
 #include "raplas/scene/scene.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 #include "raplas/util/error.hpp"
@@ -74,16 +76,62 @@ std::string resolve_mesh_path(const std::string& mesh, const std::string& scene_
     throw InputError("mesh '" + mesh + "' not found (searched: " + tried + ")");
 }
 
-Camera auto_camera(const Aabb& b, double fov_deg) {
-    Vec3d c = b.center();
-    double r = std::max(length(b.extent()) * 0.5, 1e-6);
+Camera auto_camera(const Mesh& m, std::size_t triangles, double fov_deg, double aspect) {
+    Aabb b;
+    for (std::size_t t = 0; t < triangles; ++t)
+        for (auto i : m.triangles[t]) b.grow(to_d(m.vertices[i]));
+    const Vec3d c = b.center();
+    const Vec3d up{0, 1, 0};
+    const double r = std::max(length(b.extent()) * 0.5, 1e-6);
+    // Candidate views from the same side, from low (the direction (0.45,
+    // 0.35, 1): 17.7 degrees up) to high above: the one whose projected
+    // bounding rectangle fills the image best, so that a flat mesh (a floor,
+    // a room seen from outside) is seen from higher up. A later candidate
+    // must fill 10 % more to win: compact meshes keep the low view.
+    const Vec3d side = normalize(Vec3d(0.45, 0.0, 1.0));
+    const double elevations[] = {std::atan2(0.35, std::sqrt(0.45 * 0.45 + 1.0)), 30 * M_PI / 180, 45 * M_PI / 180,
+                                 60 * M_PI / 180};
+    struct View {
+        Vec3d w, u, v;
+        double cx = 0, cy = 0, fill = 0;
+    };
+    View best;
+    for (double e : elevations) {
+        View view;
+        view.w = normalize(side * std::cos(e) + up * std::sin(e));  // toward the eye
+        view.u = normalize(cross(up, view.w));
+        view.v = cross(view.w, view.u);
+        double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+        for (std::size_t t = 0; t < triangles; ++t)
+            for (auto i : m.triangles[t]) {
+                const Vec3d q = to_d(m.vertices[i]) - c;
+                x0 = std::min(x0, dot(q, view.u)), x1 = std::max(x1, dot(q, view.u));
+                y0 = std::min(y0, dot(q, view.v)), y1 = std::max(y1, dot(q, view.v));
+            }
+        const double bw = std::max(x1 - x0, 1e-12 * r), bh = std::max(y1 - y0, 1e-12 * r);
+        const double scale = std::max(bw / aspect, bh);  // image height that holds the rectangle
+        view.fill = bw * bh / (scale * scale * aspect);
+        view.cx = (x0 + x1) / 2;
+        view.cy = (y0 + y1) / 2;
+        if (view.fill > best.fill * 1.1) best = view;
+    }
+    // Look at the centre of the projected rectangle, from the smallest
+    // distance at which every corner is inside the view (vertical and
+    // horizontal field of view), plus 2 %.
     Camera cam;
-    cam.look_at = c;
-    cam.up = {0, 1, 0};
+    cam.up = up;
     cam.fov_deg = fov_deg;
-    Vec3d dir = normalize(Vec3d(0.45, 0.35, 1.0));
-    double dist = r / std::sin(fov_deg * M_PI / 360.0) * 1.02;
-    cam.eye = c + dir * dist;
+    cam.look_at = c + best.u * best.cx + best.v * best.cy;
+    const double tv = std::tan(fov_deg * M_PI / 360.0), th = tv * aspect;
+    double dist = 0;
+    for (std::size_t t = 0; t < triangles; ++t)
+        for (auto i : m.triangles[t]) {
+            const Vec3d q = to_d(m.vertices[i]) - cam.look_at;
+            const double x = dot(q, best.u), y = dot(q, best.v), z = dot(q, best.w);
+            dist = std::max(dist, std::max(z + std::fabs(x) / th, z + std::fabs(y) / tv));
+        }
+    dist = std::max(dist * 1.02, 1e-3 * r);
+    cam.eye = cam.look_at + best.w * dist;
     return cam;
 }
 
@@ -138,6 +186,7 @@ Scene scene_from_params(const ParamSet& p, const std::string& mesh_override) {
         if (!p.is_given("name")) s.name = "builtin";
     }
     const Aabb object_bounds = s.mesh.bounds();
+    const std::size_t object_triangles = s.mesh.triangles.size();
     if (p.get_bool("floor")) add_floor(s.mesh);
     s.diagonal = length(s.mesh.bounds().extent());
 
@@ -163,7 +212,8 @@ Scene scene_from_params(const ParamSet& p, const std::string& mesh_override) {
     } else if (builtin) {
         s.camera = {{3.2, 2.6, 5.2}, {0.0, 0.7, -0.4}, {0, 1, 0}, fov};
     } else {
-        s.camera = auto_camera(object_bounds, fov);
+        const double aspect = double(p.get_int("image.width")) / double(p.get_int("image.height"));
+        s.camera = auto_camera(s.mesh, object_triangles, fov, aspect);
         s.camera_auto = true;
     }
     auto lc = p.get_vec3("light.corner"), lu = p.get_vec3("light.edge_u"), lv = p.get_vec3("light.edge_v");
@@ -199,6 +249,30 @@ Scene scene_from_params(const ParamSet& p, const std::string& mesh_override) {
     s.shadow_offset = p.get_real("shading.shadow_offset");
     s.skip_facing_away = p.get_bool("shading.skip_facing_away");
     return s;
+}
+
+void resolve_scene_params(ParamSet& p, const Scene& s, const std::string& mesh_override) {
+    auto vec = [](const Vec3d& v) {
+        auto num = [](double d) {
+            char buf[40];
+            for (int prec = 1; prec <= 17; ++prec) {  // shortest text that reads back to the same double
+                std::snprintf(buf, sizeof buf, "%.*g", prec, d);
+                if (std::strtod(buf, nullptr) == d) break;
+            }
+            std::string t = buf;
+            if (t.find_first_of(".eEn") == std::string::npos) t += ".0";
+            return t;
+        };
+        return "[" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + "]";
+    };
+    if (!mesh_override.empty()) p.set("mesh=\"" + mesh_override + "\"");
+    if (!p.is_given("name")) p.set("name=\"" + s.name + "\"");
+    p.set("camera.eye=" + vec(s.camera.eye));
+    p.set("camera.look_at=" + vec(s.camera.look_at));
+    p.set("camera.up=" + vec(s.camera.up));
+    p.set("light.corner=" + vec(s.light.corner));
+    p.set("light.edge_u=" + vec(s.light.edge_u));
+    p.set("light.edge_v=" + vec(s.light.edge_v));
 }
 
 Scene load_scene(const SceneRequest& req) {

@@ -5,9 +5,11 @@
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -24,6 +26,7 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::AllOf;
 using ::testing::HasSubstr;
+using ::testing::Not;
 using ::testing::StartsWith;
 
 using namespace raplas_test;
@@ -202,6 +205,51 @@ TEST_F(Cli, TraceCommandWritesAReadableTrace) {
     EXPECT_GT(t.groups.size(), 1u);
 }
 
+// A 5,000-triangle sphere over a square floor, as one OBJ.
+std::string sphere_over_plane_obj() {
+    std::ostringstream o;
+    const int nu = 50, nv = 51;
+    for (int j = 0; j <= nv; ++j)
+        for (int i = 0; i < nu; ++i) {
+            const double th = M_PI * j / nv, ph = 2 * M_PI * i / nu;
+            o << "v " << std::sin(th) * std::cos(ph) << " " << 1.2 + std::cos(th) << " " << std::sin(th) * std::sin(ph)
+              << "\n";
+        }
+    for (int j = 0; j < nv; ++j)
+        for (int i = 0; i < nu; ++i) {
+            const int a = j * nu + i + 1, b = j * nu + (i + 1) % nu + 1, c = a + nu, d = b + nu;
+            if (j > 0) o << "f " << a << " " << b << " " << d << "\n";
+            if (j < nv - 1) o << "f " << a << " " << d << " " << c << "\n";
+        }
+    const int base = (nv + 1) * nu + 1;
+    o << "v -4 0 -4\nv 4 0 -4\nv 4 0 4\nv -4 0 4\n";
+    o << "f " << base << " " << base + 2 << " " << base + 1 << "\nf " << base << " " << base + 3 << " " << base + 2
+      << "\n";
+    return o.str();
+}
+
+TEST_F(Cli, AutomaticFramingFillsTheImageAndDumpsAsPastableValues) {
+    const std::string mesh = write("sphere_plane.obj", sphere_over_plane_obj());
+    const RunResult a = run({"render", "-q", "--mesh", mesh, "-o", "a.png", "--json", "a.json"});
+    ASSERT_EQ(a.code, 0) << a.err;
+    std::ifstream json(dir / "a.json");
+    const std::string text((std::istreambuf_iterator<char>(json)), std::istreambuf_iterator<char>());
+    const auto at = text.find("\"hit_pixels\":");
+    ASSERT_NE(at, std::string::npos);
+    const long hits = std::stol(text.substr(at + 13));
+    // A floor seen from the side filled a sixth of the image; from above it fills much more.
+    EXPECT_GT(hits, 4096 * 35 / 100) << "of 4096 pixels";
+    // --dump-scene prints the camera and light it chose, and the mesh: a scene file for the same image.
+    const RunResult d = run({"render", "--mesh", mesh, "--dump-scene"});
+    ASSERT_EQ(d.code, 0) << d.err;
+    EXPECT_THAT(d.out, Not(HasSubstr("(auto)")));
+    EXPECT_THAT(d.out, AllOf(HasSubstr("\neye = ["), HasSubstr("\nlook_at = ["), HasSubstr("\ncorner = [")));
+    const std::string scene = write("dumped.toml", d.out);
+    const RunResult b = run({"render", "-q", "--scene", scene, "-o", "b.png"});
+    ASSERT_EQ(b.code, 0) << b.err;
+    EXPECT_TRUE(slurp(dir / "a.png") == slurp(dir / "b.png")) << "the dumped scene renders another image";
+}
+
 TEST_F(Cli, DumpSceneIsValidSceneInput) {
     const RunResult a = run({"render", "--set", "image.width=17", "--set", "camera.fov_deg=55.5", "--dump-scene"});
     ASSERT_EQ(a.code, 0) << a.err;
@@ -211,6 +259,85 @@ TEST_F(Cli, DumpSceneIsValidSceneInput) {
     const RunResult b = run({"render", "--scene", scene, "--dump-scene"});
     ASSERT_EQ(b.code, 0) << b.err;
     EXPECT_EQ(b.out, a.out);
+}
+
+}  // namespace
+
+namespace {
+
+using namespace raplas_test;
+
+// ---- provenance: what a result says about where it comes from ----------------
+
+class Provenance : public TempDirTest {
+protected:
+    nlohmann::json simulate(const std::vector<std::string>& extra, const std::string& name) const {
+        const std::vector<std::string> base = {"simulate", "-q", "--config", "paper", "--set", "image.width=16",
+                                               "--set", "image.height=16", "--set", "workload.group_size=8",
+                                               "--set", "workload.shadow_group_size=4", "--json", name + ".json"};
+        const RunResult r = run(plus(base, extra));
+        EXPECT_EQ(r.code, 0) << r.err;
+        return nlohmann::json::parse(slurp(dir / (name + ".json")));
+    }
+};
+
+TEST_F(Provenance, OverridesNameEveryChangedKeyAndTheHashesTellRunsApart) {
+    const nlohmann::json plain = simulate({}, "plain");
+    EXPECT_EQ(plain["config"], "paper");
+    // workload.* differ from paper.toml (16 and 16): named, with their values.
+    EXPECT_EQ(plain["overrides"], nlohmann::json({{"workload.group_size", 8}, {"workload.shadow_group_size", 4}}));
+    EXPECT_EQ(plain["config_hash"].get<std::string>().size(), 16u);
+    EXPECT_EQ(plain["workload_hash"].get<std::string>().size(), 16u);
+    EXPECT_EQ(plain["resolved_config"]["icc.rti_pipes"], 1);
+    EXPECT_EQ(plain["resolved_config"]["icc.triangle_select"], "any");
+
+    // Setting a key to the config's own value changes nothing.
+    const nlohmann::json same = simulate({"--set", "icc.rti_pipes=1", "--iccs", "1"}, "same");
+    EXPECT_EQ(same["overrides"], plain["overrides"]);
+    EXPECT_EQ(same["config_hash"], plain["config_hash"]);
+
+    // Another machine: named, another config hash, the same workload.
+    const nlohmann::json pipes = simulate({"--set", "icc.rti_pipes=2", "--fifo", "10"}, "pipes");
+    EXPECT_EQ(pipes["overrides"]["icc.rti_pipes"], 2);
+    EXPECT_EQ(pipes["overrides"]["fifo.triangle_depth"], 10);
+    EXPECT_EQ(pipes["overrides"]["fifo.sphere_depth"], 10);
+    EXPECT_NE(pipes["config_hash"], plain["config_hash"]);
+    EXPECT_EQ(pipes["workload_hash"], plain["workload_hash"]);
+
+    // Another workload (a scene key): the same machine, another workload hash.
+    const nlohmann::json wider = simulate({"--set", "image.width=24"}, "wider");
+    EXPECT_EQ(wider["config_hash"], plain["config_hash"]);
+    EXPECT_NE(wider["workload_hash"], plain["workload_hash"]);
+
+    // The CSV row carries the same figures.
+    ASSERT_EQ(run({"simulate", "-q", "--config", "paper", "--set", "image.width=16", "--set", "image.height=16",
+                   "--set", "workload.group_size=8", "--set", "workload.shadow_group_size=4", "--set",
+                   "icc.rti_pipes=2", "--fifo", "10", "--csv", "pipes.csv"})
+                  .code,
+              0);
+    const auto lines = lines_of(slurp(dir / "pipes.csv"));
+    ASSERT_EQ(lines.size(), 2u);
+    EXPECT_THAT(lines[1], HasSubstr(",paper,fifo.sphere_depth=10;fifo.triangle_depth=10;icc.rti_pipes=2;"
+                                    "workload.group_size=8;workload.shadow_group_size=4,"));
+    EXPECT_THAT(lines[1], HasSubstr("," + pipes["config_hash"].get<std::string>() + "," +
+                                    pipes["workload_hash"].get<std::string>()));
+}
+
+TEST_F(Provenance, WorkloadHashIsTheSameFromATraceFileAndForEitherTraceUnderBoth) {
+    const std::vector<std::string> scene = {"--set", "image.width=16", "--set", "image.height=16", "--set",
+                                            "groups.size=8", "--set", "groups.shadow_size=4"};
+    ASSERT_EQ(run(plus(plus({"trace", "-q", "-o", "any.trace"}, scene), {})).code, 0);
+    ASSERT_EQ(run(plus(plus({"trace", "-q", "-o", "both.trace", "--triangle-select", "both"}, scene), {})).code, 0);
+    auto hash = [&](const std::vector<std::string>& args) {
+        const RunResult r = run(plus(plus({"simulate", "-q", "--json", "h.json"}, args), {}));
+        EXPECT_EQ(r.code, 0) << r.err;
+        return nlohmann::json::parse(slurp(dir / "h.json"))["workload_hash"].get<std::string>();
+    };
+    const std::string from_scene = hash(scene);
+    EXPECT_EQ(hash({"--trace", "any.trace"}), from_scene);
+    const std::string both = hash({"--trace", "both.trace", "--set", "icc.triangle_select=both"});
+    EXPECT_EQ(hash({"--trace", "any.trace", "--set", "icc.triangle_select=both"}), both);
+    EXPECT_NE(both, from_scene) << "under `any` the pair-less spheres are part of the workload";
 }
 
 }  // namespace

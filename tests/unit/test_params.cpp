@@ -2,6 +2,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -443,6 +444,68 @@ TEST_F(ParamsTest, SceneFileValuesReachTheScene) {
     both.scene_file = f;
     both.mesh_file = (dir / "tri.obj").string();
     EXPECT_THAT(error_of([&] { raplas::load_scene(both); }), AllOf(HasSubstr("--scene"), HasSubstr("--mesh")));
+}
+
+}  // namespace
+
+namespace {
+
+// Corners of the mesh's first `tris` triangles in the camera's normalised image coordinates:
+// the largest of |x| / tan(horizontal half-angle) and |y| / tan(vertical half-angle), and the
+// smallest depth in front of the eye.
+struct Framing {
+    double extent = 0, min_depth = 1e300;
+};
+Framing framing(const raplas::Mesh& m, std::size_t tris, const raplas::Camera& cam, double aspect) {
+    using namespace raplas;
+    const Vec3d w = normalize(cam.eye - cam.look_at), u = normalize(cross(cam.up, w)), v = cross(w, u);
+    const double tv = std::tan(cam.fov_deg * M_PI / 360.0), th = tv * aspect;
+    Framing f;
+    for (std::size_t t = 0; t < tris; ++t)
+        for (auto i : m.triangles[t]) {
+            const Vec3d q = to_d(m.vertices[i]) - cam.eye;
+            const double depth = -dot(q, w);
+            f.min_depth = std::min(f.min_depth, depth);
+            f.extent = std::max({f.extent, std::fabs(dot(q, u)) / depth / th, std::fabs(dot(q, v)) / depth / tv});
+        }
+    return f;
+}
+
+TEST(AutoCamera, EveryCornerIsInViewAndTheMeshReachesTheBorder) {
+    using namespace raplas;
+    // A small box on a wide floor (flat: seen from higher up), and the box alone (compact).
+    Mesh m;
+    auto quad = [&](Vec3f a, Vec3f b, Vec3f c, Vec3f d) {
+        const auto base = std::uint32_t(m.vertices.size());
+        m.vertices.insert(m.vertices.end(), {a, b, c, d});
+        m.triangles.push_back({base, base + 1, base + 2});
+        m.triangles.push_back({base, base + 2, base + 3});
+        m.triangle_material.insert(m.triangle_material.end(), {0, 0});
+    };
+    quad({0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0});
+    quad({0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1});
+    quad({0, 1, 0}, {1, 1, 0}, {1, 1, 1}, {0, 1, 1});
+    const std::size_t box = m.triangles.size();
+    quad({-9, 0, -9}, {9, 0, -9}, {9, 0, 9}, {-9, 0, 9});
+    for (const double aspect : {1.0, 16.0 / 9.0, 0.5})
+        for (const std::size_t tris : {box, m.triangles.size()}) {
+            SCOPED_TRACE("aspect " + std::to_string(aspect) + ", triangles " + std::to_string(tris));
+            const Camera cam = auto_camera(m, tris, 40.0, aspect);
+            const Framing f = framing(m, tris, cam, aspect);
+            EXPECT_GT(f.min_depth, 0.0);
+            EXPECT_LE(f.extent, 1.0) << "a corner is outside the view";
+            EXPECT_GE(f.extent, 0.95) << "the mesh does not reach the border (a 2 % margin): not framed tightly";
+            // Only the triangles asked for count (the floor of a scene is left out of the framing).
+            if (tris == box) EXPECT_GT(framing(m, m.triangles.size(), cam, aspect).extent, 1.0);
+        }
+    // The flat scene is seen from higher up than the compact one.
+    const Camera low = auto_camera(m, box, 40.0, 1.0), high = auto_camera(m, m.triangles.size(), 40.0, 1.0);
+    auto elevation = [](const Camera& c) {
+        const Vec3d d = normalize(c.eye - c.look_at);
+        return std::asin(d.y);
+    };
+    EXPECT_NEAR(elevation(low) * 180 / M_PI, 17.7, 0.1);
+    EXPECT_GT(elevation(high), elevation(low) + 0.2);
 }
 
 }  // namespace

@@ -62,12 +62,20 @@ struct SceneRequest {
 // Loads the request: no scene and no mesh gives the built-in procedural
 // scene. Throws InputError on bad input.
 Scene load_scene(const SceneRequest& req);
+// Writes what the scene chose by itself into `p` (camera, light, the mesh
+// given with --mesh, the name), so that p.dump() is a scene file that gives
+// the same scene.
+void resolve_scene_params(ParamSet& p, const Scene& s, const std::string& mesh_override);
 // Same, from a ParamSet already loaded and overridden.
 Scene scene_from_params(const ParamSet& p, const std::string& mesh_override);
 
 // Automatic framing and lighting from the mesh bounds.
 // (Framing uses the bounds of the mesh as loaded, before any floor is added.)
-Camera auto_camera(const Aabb& bounds, double fov_deg);
+// The camera of a scene that gives none: looking at the centre of the first
+// `triangles` triangles of `m` (the mesh without the floor) from above and to
+// the side, at the smallest distance that keeps each of their corners in the
+// view of `fov_deg` (vertical) and `aspect` (width / height).
+Camera auto_camera(const Mesh& m, std::size_t triangles, double fov_deg, double aspect);
 AreaLight auto_light(const Aabb& bounds);
 // Appends a floor quad just below the mesh (scene key `floor`).
 void add_floor(Mesh& m);
