@@ -29,7 +29,8 @@ RUNS = {  # name -> extra options
     "float32-wt": ["--set", "numerics.rti_test=watertight"],
     "fp1-7-16-wt": ["--set", "numerics.format=fp1-7-16-wt"],
 }
-SKIP = {"wall", "sim_cycles_per_second", "sim_icc_cycles_per_second", "format", "hits"}  # hits: RTI results
+# hits: RTI results; note: the area's note names the number format (its area does not follow it)
+SKIP = {"wall", "sim_cycles_per_second", "sim_icc_cycles_per_second", "format", "hits", "note"}
 
 
 failures = []
