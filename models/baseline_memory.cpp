@@ -57,17 +57,7 @@ std::uint64_t list_schedule_makespan(const std::vector<std::uint64_t>& durations
     return end;
 }
 
-double machine_area(const SimConfig& cfg) {
-    const double k = cfg.iccs;
-    switch (cfg.memory.system) {
-        case MemorySystem::shared: return k * cfg.area.pe + cfg.area.memory;
-        case MemorySystem::distributed: return k * (cfg.area.pe + cfg.area.memory);
-        default: return k * (cfg.area.pe + cfg.area.icc_fifos) + cfg.area.memory;
-    }
-}
-
 namespace {
-
 
 // Cycles a port delivering r records per cycle needs for n records.
 std::uint64_t port_cycles(std::uint64_t n, double r) {
@@ -93,7 +83,7 @@ SimResult baseline_result(const Trace& t, const SimConfig& cfg, MemoryStats& st,
     const double r = cfg.memory.records_per_cycle;
     st = MemoryStats{};
     st.system = cfg.memory.system;
-    st.area = machine_area(cfg);
+    st.area = machine_area(cfg, area_workload(t, cfg));
 
     std::vector<std::uint64_t> rti(G);  // each group's RTI cycles
     for (std::size_t g = 0; g < G; ++g) rti[g] = group_rti_cycles(w[g], cfg);
@@ -181,7 +171,7 @@ void streaming_bounds(const Trace& t, const SimConfig& cfg, const SimResult& r, 
             st.pe_bound_cycles += m;
         }
     }
-    st.area = machine_area(cfg);
+    st.area = machine_area(cfg, area_workload(t, cfg));
 }
 
 }  // namespace

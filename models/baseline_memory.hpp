@@ -2,7 +2,7 @@
 // streaming machine (the SystemC model of top.hpp) and two baselines computed
 // in closed form from the same trace, a shared memory (one memory port,
 // arbitrated among the ICCs) and a distributed memory (each ICC its own copy
-// of Sphere and Triangle Memory); and the area model (PE:memory = 1:2).
+// of Sphere and Triangle Memory); each with its area (models/area.hpp).
 // docs/MODEL.md §6 gives every formula and the reasoning behind it.
 #pragma once
 
@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "area.hpp"
 #include "config.hpp"
 #include "top.hpp"
 
@@ -42,11 +43,8 @@ struct MemoryStats {
     std::uint64_t triangle_records_read = 0;
     std::uint64_t memory_bound_cycles = 0;    // the system's time with ideal PEs
     std::uint64_t pe_bound_cycles = 0;        // the time with ideal memories: RTI work only
-    double area = 0;                          // in PE units (AreaParams)
+    AreaBreakdown area;                       // of the system on the trace's workload
 };
-
-// Area of the configured system with cfg.iccs ICCs.
-double machine_area(const SimConfig& cfg);
 
 // A baseline's result from the trace alone. group_cycles: for the distributed
 // system with memory.distributed_fetch = stream, each group's cycles on one

@@ -4,7 +4,7 @@
 
 namespace raplas::model {
 
-// Memory system and area keys (docs/MODEL.md §6), used by machine_params().
+// Memory system keys (docs/MODEL.md §6), used by machine_params().
 void add_memory_system_params(ParamSet& p) {
     p.add_string("memory.system", std::string("streaming"),
                  "streaming = the RAPLAS machine (SystemC model); shared = one memory, arbitrated among the ICCs; "
@@ -25,10 +25,6 @@ void add_memory_system_params(ParamSet& p) {
                  {"demand", "stream"});
     p.add_real("memory.fetch_records_per_cycle", 1.0, 1e-6, 1e6,
                "baselines: records (spheres or triangles) one memory port delivers per cycle (paper Table 1: 1)");
-    p.add_real("area.pe", 1.0, 0.0, 1e9, "area of one ICC's processing elements (paper: PE:memory = 1:2)");
-    p.add_real("area.memory", 2.0, 0.0, 1e9, "area of one copy of Sphere and Triangle Memory (paper: 2)");
-    p.add_real("area.icc_fifos", 0.0, 0.0, 1e9,
-               "streaming: area of one ICC's Sphere and Triangle FIFOs (the paper counts PE and memory only: 0)");
 }
 
 void memory_system_from_params(const ParamSet& p, SimConfig& c) {
@@ -40,9 +36,6 @@ void memory_system_from_params(const ParamSet& p, SimConfig& c) {
     c.memory.shared_fetch_spheres = p.get_string("memory.shared_spheres") == "fetched";
     c.memory.distributed_stream = p.get_string("memory.distributed_fetch") == "stream";
     c.memory.records_per_cycle = p.get_real("memory.fetch_records_per_cycle");
-    c.area.pe = p.get_real("area.pe");
-    c.area.memory = p.get_real("area.memory");
-    c.area.icc_fifos = p.get_real("area.icc_fifos");
 }
 
 ParamSet machine_params() {
@@ -122,6 +115,7 @@ ParamSet machine_params() {
     p.add_int("sim.watchdog_cycles", 1000000, 1, 1000000000000,
               "stop with an error when nothing moves for this many cycles");
     add_memory_system_params(p);
+    add_area_params(p);
     p.add_string("sim.fault", std::string("none"),
                  "fault injection, to provoke the watchdog: stuck_rti = ICC sim.fault_icc's Ray-Triangle "
                  "Intersector takes no pair; stuck_psi = its Plane-Sphere Intersector takes no sphere; or the "
@@ -205,6 +199,7 @@ SimConfig config_from_params(const ParamSet& p) {
     c.sample_seed = std::uint64_t(p.get_int("sim.sample_seed"));
     c.watchdog_cycles = std::uint64_t(p.get_int("sim.watchdog_cycles"));
     memory_system_from_params(p, c);
+    c.area = area_from_params(p);
     const std::string fault = p.get_string("sim.fault");
     c.fault = fault == "stuck_rti"   ? Fault::stuck_rti
               : fault == "stuck_psi" ? Fault::stuck_psi

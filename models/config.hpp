@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "area.hpp"
 #include "icc.hpp"
 #include "watchdog.hpp"
 #include "raplas/util/params.hpp"
@@ -22,10 +23,6 @@ struct MemoryParams {
     bool shared_fetch_spheres = false;   // memory.shared_spheres = fetched
     bool distributed_stream = false;     // memory.distributed_fetch = stream
     double records_per_cycle = 1.0;      // per memory port
-};
-// Area model (paper §5.2: PE:memory = 1:2), in units of the PE.
-struct AreaParams {
-    double pe = 1.0, memory = 2.0, icc_fifos = 0.0;
 };
 
 struct SimConfig {
@@ -54,7 +51,7 @@ struct SimConfig {
     double sample_fraction = 0.1;
     std::uint64_t sample_seed = 1;
     MemoryParams memory;
-    AreaParams area;
+    AreaParams area;  // models/area.hpp
     Fault fault = Fault::none;  // fault injection (tests of the watchdog)
     std::uint32_t fault_icc = 0;
 };
@@ -69,7 +66,7 @@ NumFormat numerics_from_params(const ParamSet& p);
 // every suffix, the other two agreeing with it), so that --dump-config prints
 // a config that loads again to the same format.
 void resolve_numerics(ParamSet& p);
-// memory.* and area.* keys (models/baseline_memory.cpp).
+// memory.* keys (models/baseline_memory.cpp); the area.* keys are add_area_params (models/area.hpp).
 void add_memory_system_params(ParamSet& p);
 void memory_system_from_params(const ParamSet& p, SimConfig& c);
 

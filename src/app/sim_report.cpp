@@ -16,6 +16,57 @@ nlohmann::json fifo_json(const model::FifoStats& f, std::uint32_t depth) {
     return {{"depth", depth}, {"pushes", f.pushes}, {"max_occupancy", f.max_occupancy}, {"full_cycles", f.full_cycles}};
 }
 
+// The area block (docs/MODEL.md §6): under the blocks model each block of one
+// ICC, the same summed over the ICCs, the scene memories and the total.
+nlohmann::json area_json(const model::AreaBreakdown& b, const model::AreaParams& a) {
+    const nlohmann::json note = b.note.empty() ? nlohmann::json(nullptr) : nlohmann::json(b.note);
+    if (b.model == model::AreaModel::pe_units)
+        return {{"model", model::area_model_name(b.model)},
+                {"unit", "PE"},
+                {"iccs", b.iccs},
+                {"pe", a.pe},
+                {"memory", a.memory},
+                {"icc_fifos", a.icc_fifos},
+                {"total", b.total},
+                {"note", note}};
+    const double k = b.iccs;
+    return {{"model", model::area_model_name(b.model)},
+            {"unit", "slice-equivalents"},
+            {"iccs", b.iccs},
+            {"per_icc",
+             {{"psi", b.psi},
+              {"rti", b.rti},
+              {"fixed",
+               {{"triangle_selector", b.triangle_selector},
+                {"ray_data_fetcher", b.ray_data_fetcher},
+                {"decoders", b.decoders},
+                {"sphere_selector", b.sphere_selector},
+                {"total", b.fixed()}}},
+              {"fifos",
+               {{"sphere", b.sphere_fifo},
+                {"triangle", b.triangle_fifo},
+                {"planeid", b.planeid_fifo},
+                {"first_tri", b.first_tri_fifo},
+                {"total", b.fifos()}}},
+              {"ray_memories", {{"ray", b.ray_memory}, {"min_distance", b.min_distance_memory}, {"total", b.ray_memories()}}},
+              {"total", b.icc()}}},
+            {"scene_memories",
+             {{"sphere", b.sphere_memory},
+              {"triangle", b.triangle_memory},
+              {"copies", b.scene_copies},
+              {"total", b.scene_copies * b.scene_memory()}}},
+            {"totals",
+             {{"psi", k * b.psi},
+              {"rti", k * b.rti},
+              {"fixed", k * b.fixed()},
+              {"fifos", k * b.fifos()},
+              {"ray_memories", k * b.ray_memories()},
+              {"iccs", k * b.icc()},
+              {"scene_memories", b.scene_copies * b.scene_memory()}}},
+            {"total", b.total},
+            {"note", note}};
+}
+
 // The flat columns: (CSV name, JSON pointer).
 const std::vector<std::pair<const char*, const char*>>& columns() {
     static const std::vector<std::pair<const char*, const char*>> c = {
@@ -227,15 +278,15 @@ nlohmann::json sim_json(const SimReportInput& in) {
     j["iccs_detail"] = iccs;
     model::MemoryStats ms;
     if (in.memory) ms = *in.memory;
-    else ms.system = c.memory.system, ms.area = model::machine_area(c);
+    else ms.system = c.memory.system, ms.area = model::machine_area(c, model::area_workload(t, c));
     j["memory"] = {{"system", model::memory_system_name(ms.system)},
                    {"pe", c.memory.pe_rti_bound ? "rti" : "ideal"},
                    {"sphere_records_read", ms.sphere_records_read},
                    {"triangle_records_read", ms.triangle_records_read},
                    {"memory_bound_cycles", ms.memory_bound_cycles},
                    {"pe_bound_cycles", ms.pe_bound_cycles}};
-    j["area"] = {{"pe", c.area.pe}, {"memory", c.area.memory}, {"icc_fifos", c.area.icc_fifos}, {"total", ms.area}};
-    j["area_time"] = ms.area * double(r.total_cycles);
+    j["area"] = area_json(ms.area, c.area);
+    j["area_time"] = ms.area.total * double(r.total_cycles);
     j["functional_checked"] = r.functional_checked;
     j["functional_match"] = r.functional_match;
     j["rays_checked"] = r.rays_checked;
@@ -347,13 +398,28 @@ std::string sim_summary(const nlohmann::json& j) {
         o << buf;
     } else {
         std::snprintf(buf, sizeof buf,
-                      "  %s memory (closed form, PEs %s): %llu sphere and %llu triangle records read; area %.4g\n",
+                      "  %s memory (closed form, PEs %s): %llu sphere and %llu triangle records read\n",
                       j["memory"]["system"].get<std::string>().c_str(), j["memory"]["pe"].get<std::string>().c_str(),
                       (unsigned long long)j["memory"]["sphere_records_read"].get<std::uint64_t>(),
-                      (unsigned long long)j["memory"]["triangle_records_read"].get<std::uint64_t>(),
-                      j["area"]["total"].get<double>());
+                      (unsigned long long)j["memory"]["triangle_records_read"].get<std::uint64_t>());
         o << buf;
     }
+    const nlohmann::json& area = j["area"];
+    if (area["model"] == "pe_units") {
+        std::snprintf(buf, sizeof buf, "  area %.6g PE (area.model = pe_units), area x time %.6g\n",
+                      area["total"].get<double>(), j["area_time"].get<double>());
+    } else {
+        const nlohmann::json& per = area["per_icc"];
+        std::snprintf(buf, sizeof buf,
+                      "  area %.6g slice-equivalents: %u ICCs of %.6g (PSI %.6g, RTI %.6g, fixed %.6g, FIFOs %.6g, "
+                      "Ray and Min-distance Memories %.6g) + scene memories %.6g; area x time %.6g\n",
+                      area["total"].get<double>(), area["iccs"].get<unsigned>(), per["total"].get<double>(),
+                      per["psi"].get<double>(), per["rti"].get<double>(), per["fixed"]["total"].get<double>(),
+                      per["fifos"]["total"].get<double>(), per["ray_memories"]["total"].get<double>(),
+                      area["scene_memories"]["total"].get<double>(), j["area_time"].get<double>());
+    }
+    o << buf;
+    if (!area["note"].is_null()) o << "  area note: " << area["note"].get<std::string>() << "\n";
     std::string fm = j["functional_checked"].get<bool>() ? (j["functional_match"].get<bool>() ? "true" : "FALSE") : "not checked";
     std::snprintf(buf, sizeof buf, "  functional_match: %s (%llu rays); model %.3f s wall, %.3g ICC-cycles/s\n", fm.c_str(),
                   (unsigned long long)j["rays_checked"].get<std::uint64_t>(), j["wall"]["model_s"].get<double>(),

@@ -1,5 +1,6 @@
-// Baseline memory systems (shared, distributed) and the area model, against
-// closed forms on hand-made traces (docs/MODEL.md §6).
+// Baseline memory systems (shared, distributed) and their area under the
+// paper's PE-unit model, against closed forms on hand-made traces
+// (docs/MODEL.md §6; the blocks model: test_area.cpp).
 #include <gtest/gtest.h>
 
 #include "baseline_memory.hpp"
@@ -95,12 +96,14 @@ TEST(BaselineShared, IdealPesTakeOneCyclePerNeededTriangleWhateverTheIccCount) {
     Trace t = test::hand_trace(S, 16, 0b1, 0b1, every_third(S), 5);
     for (std::uint32_t k : {1u, 2u, 4u, 16u}) {
         MemoryStats st;
-        SimResult r = simulate_system(t, config(MemorySystem::shared, k), st);
+        SimConfig c = config(MemorySystem::shared, k);
+        c.area.model = AreaModel::pe_units;
+        SimResult r = simulate_system(t, c, st);
         EXPECT_EQ(r.total_cycles, 500u) << k;
         EXPECT_EQ(st.triangle_records_read, 500u);
         EXPECT_EQ(st.sphere_records_read, 0u);
         EXPECT_EQ(st.memory_bound_cycles, 500u);
-        EXPECT_DOUBLE_EQ(st.area, k * 1.0 + 2.0);  // K PEs and one memory
+        EXPECT_DOUBLE_EQ(st.area.total, k * 1.0 + 2.0);  // K PEs and one memory
     }
 }
 
@@ -138,10 +141,12 @@ TEST(BaselineDistributed, IdealPesReadEverySphereOfTheirOwnCopyPerGroup) {
     const std::uint32_t S = 300;
     Trace t = test::hand_trace(S, 16, 0b1, 0b1, every_third(S), 5);
     MemoryStats st;
-    EXPECT_EQ(simulate_system(t, config(MemorySystem::distributed, 2), st).total_cycles, 3u * S);
+    SimConfig c = config(MemorySystem::distributed, 2);
+    c.area.model = AreaModel::pe_units;
+    EXPECT_EQ(simulate_system(t, c, st).total_cycles, 3u * S);
     EXPECT_EQ(st.sphere_records_read, 5u * S);
     EXPECT_EQ(st.triangle_records_read, 5u * 100);
-    EXPECT_DOUBLE_EQ(st.area, 2 * (1.0 + 2.0));  // a PE and a memory per ICC
+    EXPECT_DOUBLE_EQ(st.area.total, 2 * (1.0 + 2.0));  // a PE and a memory per ICC
     EXPECT_EQ(simulate_system(t, config(MemorySystem::distributed, 5), st).total_cycles, std::uint64_t(S));
     EXPECT_EQ(simulate_system(t, config(MemorySystem::distributed, 9), st).total_cycles, std::uint64_t(S));
 }
@@ -205,11 +210,12 @@ TEST(StreamingSystem, AreaCountsEachIccsFifosAndOneMemoryAndBoundsFollowThePasse
     const std::uint32_t S = 200;
     Trace t = test::hand_trace(S, 16, 0, 0, std::vector<bool>(S, false), 5);
     SimConfig c = config(MemorySystem::streaming, 2);
+    c.area.model = AreaModel::pe_units;
     c.area.icc_fifos = 0.5;
     MemoryStats st;
     SimResult r = simulate_system(t, c, st);
     EXPECT_EQ(r.total_cycles, 3u * (S + c.icc.psi.stages + 2));
-    EXPECT_DOUBLE_EQ(st.area, 2 * (1.0 + 0.5) + 2.0);
+    EXPECT_DOUBLE_EQ(st.area.total, 2 * (1.0 + 0.5) + 2.0);
     EXPECT_EQ(st.sphere_records_read, 3u * S);
     EXPECT_EQ(st.triangle_records_read, 3u * S);
     EXPECT_EQ(st.memory_bound_cycles, 3u * S);
