@@ -216,31 +216,40 @@ static std::string row_name(const std::vector<std::string>& keys, const std::vec
 // Compares the result with a reference table; prints every difference on
 // stdout; returns the number of differences. Throws InputError when the
 // reference is not a table of this sweep's points.
-std::size_t check_reference(const CsvTable& got, const std::string& ref_path, const Layout& l,
-                            const std::map<std::string, double>& tol, bool quiet) {
-    const CsvTable ref =
+namespace {
+
+// Rows by the cells of the columns that name a point; throws when a column is missing or a point has two rows.
+std::map<std::vector<std::string>, std::size_t> rows_by_point(const CsvTable& t, const std::vector<std::string>& keys,
+                                                              const std::string& what) {
+    std::vector<std::size_t> cols;
+    for (const auto& k : keys) {
+        const auto c = t.column(k);
+        if (!c) throw InputError(what + ": no column '" + k + "' (a column that names this sweep's points)");
+        cols.push_back(*c);
+    }
+    std::map<std::vector<std::string>, std::size_t> rows;
+    for (std::size_t r = 0; r < t.rows.size(); ++r) {
+        std::vector<std::string> key;
+        for (auto c : cols) key.push_back(t.rows[r][c]);
+        if (!rows.emplace(key, r).second) throw InputError(what + ": two rows for " + row_name(keys, key));
+    }
+    return rows;
+}
+
+}  // namespace
+
+CsvTable load_reference(const std::string& ref_path, const Layout& l) {
+    CsvTable ref =
         parse_csv(read_text_input(ref_path, {"reference table", "a", "the reference table", 4.0}), ref_path);
+    rows_by_point(ref, key_columns(l), ref_path);
+    return ref;
+}
+
+std::size_t check_reference(const CsvTable& got, const CsvTable& ref, const std::string& ref_path, const Layout& l,
+                            const std::map<std::string, double>& tol, bool quiet) {
     const auto keys = key_columns(l);
-    auto index_of = [&](const CsvTable& t, const std::string& name, const std::string& what) {
-        std::vector<std::size_t> cols;
-        for (const auto& k : keys) {
-            const auto c = t.column(k);
-            if (!c) throw InputError(what + ": no column '" + k + "' (a column that names this sweep's points)");
-            cols.push_back(*c);
-        }
-        std::map<std::vector<std::string>, std::size_t> rows;
-        for (std::size_t r = 0; r < t.rows.size(); ++r) {
-            std::vector<std::string> key;
-            for (auto c : cols) key.push_back(t.rows[r][c]);
-            if (!rows.emplace(key, r).second)
-                throw InputError(what + ": two rows for " + row_name(keys, key) + (name.empty() ? "" : " (" + name + ")"));
-        }
-        return rows;
-    };
-    for (const auto& [c, x] : tol)
-        if (!got.column(c) && !ref.column(c)) throw InputError("--tolerance " + c + ": no such column");
-    const auto ref_rows = index_of(ref, "", ref_path);
-    const auto got_rows = index_of(got, "", "the sweep's result");
+    const auto ref_rows = rows_by_point(ref, keys, ref_path);
+    const auto got_rows = rows_by_point(got, keys, "the sweep's result");
     std::vector<std::string> lines;
     for (const auto& h : got.header)
         if (!ref.column(h)) lines.push_back("column " + h + ": not in the reference");

@@ -106,11 +106,15 @@ CsvTable result_table(const Results& r, const Layout& l, const Derived& d);
 
 // --tolerance COLUMN=REL, checked.
 std::map<std::string, double> tolerances_of(const std::vector<std::string>& specs);
-// Compares the result with a reference table; prints every difference on
+// Reads a reference table and checks that it is a table of this sweep's
+// points: throws InputError (one line naming the file, and the line) when it
+// is not CSV, lacks a column that names the points (scene, the varied keys,
+// iccs, fifo_depth) or holds two rows for one point.
+CsvTable load_reference(const std::string& ref_path, const Layout& l);
+// Compares the result with the reference table; prints every difference on
 // stdout (a summary line only with nothing to report, unless quiet); returns
-// the number of differences. Throws InputError when the reference is not a
-// table of this sweep's points (no key column, two rows for one point, not CSV).
-std::size_t check_reference(const CsvTable& got, const std::string& ref_path, const Layout& l,
+// the number of differences (cells, rows and columns found in one table only).
+std::size_t check_reference(const CsvTable& got, const CsvTable& ref, const std::string& ref_path, const Layout& l,
                             const std::map<std::string, double>& tolerance, bool quiet);
 
 // Small parsing helpers shared with the sweep.
