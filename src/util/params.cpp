@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <sstream>
 #include <toml++/toml.h>
 
@@ -24,21 +25,31 @@ const char* type_name(ParamSet::Type t) {
     return "?";
 }
 
+// A real as it would be written: whole numbers below a million with one
+// decimal (400.0, not 4e+02), others in the shortest text that reads back to
+// the same double, exponents without '+' or leading zeros (1e-6, 2.5e9).
+// Always valid TOML for a float.
 std::string fmt_real(double d) {
     char buf[64];
-    // whole numbers as written (400.0, not 4e+02)
-    if (std::isfinite(d) && d == std::floor(d) && std::fabs(d) < 1e15) {
+    if (std::isfinite(d) && d == std::floor(d) && std::fabs(d) < 1e6) {
         std::snprintf(buf, sizeof buf, "%.1f", d);
         return buf;
     }
     std::snprintf(buf, sizeof buf, "%.17g", d);
     std::string s = buf;
-    // shortest text that reads back to the same double
     for (int prec = 1; prec < 17; ++prec) {
         std::snprintf(buf, sizeof buf, "%.*g", prec, d);
         if (std::strtod(buf, nullptr) == d) { s = buf; break; }
     }
-    if (s.find_first_of(".eEn") == std::string::npos) s += ".0";
+    const auto e = s.find('e');
+    if (e != std::string::npos) {
+        std::string exp = s.substr(e + 1);
+        const bool neg = !exp.empty() && exp[0] == '-';
+        if (!exp.empty() && (exp[0] == '-' || exp[0] == '+')) exp.erase(0, 1);
+        exp.erase(0, std::min(exp.find_first_not_of('0'), exp.size() - 1));
+        s = s.substr(0, e + 1) + (neg ? "-" : "") + exp;
+    }
+    if (s.find_first_of(".en") == std::string::npos) s += ".0";
     return s;
 }
 

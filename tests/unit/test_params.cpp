@@ -10,6 +10,7 @@
 #include <string>
 
 #include "raplas/scene/scene.hpp"
+#include "config.hpp"
 #include "raplas/util/error.hpp"
 #include "raplas/util/params.hpp"
 
@@ -269,6 +270,26 @@ TEST_F(ParamsTest, SetOverrides) {
     q.load_file(f);
     q.set("count=5");
     EXPECT_EQ(q.get_int("count"), 5);
+}
+
+TEST_F(ParamsTest, RealsPrintAsWritten) {
+    ParamSet p("real");
+    p.add_real("tiny", 1e-4, 1e-6, 1e6, "").add_real("big", 2.5e9, 0.0, 1e12, "").add_real("clock", 400.0, 1.0, 1e5, "");
+    const std::string text = p.dump();
+    EXPECT_THAT(text, HasSubstr("tiny = 0.0001\n"));
+    EXPECT_THAT(text, HasSubstr("big = 2.5e9\n"));
+    EXPECT_THAT(text, HasSubstr("clock = 400.0\n"));
+    EXPECT_EQ(error_of([&] { p.set("tiny=0"); }), "--set tiny: real key 'tiny' = 0.0 is out of range [1e-6, 1e6]");
+    EXPECT_EQ(error_of([&] { p.set("clock=1e9"); }), "--set clock: real key 'clock' = 1e9 is out of range [1.0, 100000.0]");
+    // every default of the shipped key sets: no '+' or leading zero in an exponent, and it reads back
+    for (ParamSet set : {raplas::model::machine_params(), raplas::scene_params()}) {
+        const std::string dump = set.dump();
+        EXPECT_EQ(dump.find("e+"), std::string::npos) << dump;
+        EXPECT_EQ(dump.find("e-0"), std::string::npos) << dump;
+        ParamSet back = set;
+        back.load_text(dump, "dump");
+        EXPECT_EQ(back.dump(), dump);
+    }
 }
 
 TEST_F(ParamsTest, BadSetOverridesNameTheKey) {
