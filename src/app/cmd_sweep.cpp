@@ -109,14 +109,12 @@ struct Sweep {
     }
 };
 
-std::vector<std::uint32_t> checked_list(const std::vector<std::uint32_t>& v, const char* opt, std::uint32_t max) {
+// The values of --iccs or --fifo (each in range: count_check), each once.
+std::vector<std::uint32_t> checked_list(const std::vector<std::uint32_t>& v, const char* opt) {
     if (v.empty()) return {0};
-    for (std::size_t i = 0; i < v.size(); ++i) {
-        if (v[i] < 1 || v[i] > max)
-            throw InputError(std::string(opt) + ": " + std::to_string(v[i]) + " is not in 1.." + std::to_string(max));
+    for (std::size_t i = 0; i < v.size(); ++i)
         for (std::size_t j = 0; j < i; ++j)
-            if (v[j] == v[i]) throw InputError(std::string(opt) + ": " + std::to_string(v[i]) + " is given twice");
-    }
+            if (v[j] == v[i]) throw UsageError(std::string(opt) + ": " + std::to_string(v[i]) + " is given twice");
     return v;
 }
 
@@ -143,8 +141,8 @@ Sweep make_sweep(const SweepArgs& a, const std::string& wd) {
     Sweep sw;
     sw.inputs = ordered_inputs(a);
     sw.config = a.config;
-    sw.iccs = checked_list(a.iccs, "--iccs", 4096);
-    sw.fifo = checked_list(a.fifo, "--fifo", 100000000);
+    sw.iccs = checked_list(a.iccs, "--iccs");
+    sw.fifo = checked_list(a.fifo, "--fifo");
     sw.wd = wd;
 
     ParamSet mp = model::machine_params();
@@ -156,14 +154,14 @@ Sweep make_sweep(const SweepArgs& a, const std::string& wd) {
     }
     ParamSet sp = scene_params();
     for (const auto& s : a.sets) {
-        if (s.find('=') == std::string::npos) throw InputError("--set " + s + ": expected key=value");
-        const std::string key = s.substr(0, s.find('='));
-        if (mp.has(key) || !sp.has(key)) {
-            mp.set(s);
-            sw.config_sets.push_back(s);
+        // The children get whole keys: a last part may name another key in a set alone.
+        const auto [set, assignment] = route_assignment(s, {&mp, &sp});
+        if (set == 0) {
+            mp.set(assignment);
+            sw.config_sets.push_back(assignment);
         } else {
-            sp.set(s);
-            sw.scene_sets.push_back(s);
+            sp.set(assignment);
+            sw.scene_sets.push_back(assignment);
         }
     }
     const model::SimConfig cfg = model::config_from_params(mp);
@@ -355,7 +353,7 @@ private:
 };
 
 void check_out_path(const std::string& out) {
-    if (out.empty()) throw InputError("--out: give the result CSV");
+    if (out.empty()) throw UsageError("--out: give the result CSV");
     if (fs::is_directory(out)) throw InputError(out + ": is a directory");
     const fs::path parent = fs::absolute(out).parent_path();
     if (!fs::is_directory(parent)) throw InputError(out + ": directory " + parent.string() + " does not exist");
@@ -608,10 +606,17 @@ void add_sweep_options(CLI::App* cmd, SweepArgs& a) {
     cmd->add_option("--scene", a.scenes, "scene file (repeatable: a sweep over scenes); default: the built-in scene");
     cmd->add_option("--mesh", a.meshes, "any OBJ file, framed and lit automatically (repeatable)");
     cmd->add_option("--config,-c", a.config, "machine config: a TOML file or a name in configs/ (paper, fpga)");
-    cmd->add_option("--set", a.sets, "override a config or scene key for every point (repeatable)");
-    cmd->add_option("--iccs,-k", a.iccs, "ICC counts, e.g. 1,4,16,32,48 (default: the config's)")->delimiter(',');
-    cmd->add_option("--fifo,-d", a.fifo, "Sphere and Triangle FIFO depths, e.g. 10,100,1000 (default: the config's)")
-        ->delimiter(',');
+    cmd->add_option("--set", a.sets,
+                    "override a config or scene key for every point, or by its last part when one key ends in it "
+                    "(repeatable)");
+    cmd->add_option_function<std::vector<std::string>>(
+           "--iccs,-k", [&a](const std::vector<std::string>& v) { a.iccs = count_list(v); },
+           "ICC counts, e.g. 1,4,16,32,48 (default: the config's)")
+        ->check(count_check(4096, true));
+    cmd->add_option_function<std::vector<std::string>>(
+           "--fifo,-d", [&a](const std::vector<std::string>& v) { a.fifo = count_list(v); },
+           "Sphere and Triangle FIFO depths, e.g. 10,100,1000 (default: the config's)")
+        ->check(count_check(100000000, true));
     cmd->add_option("-o,--out", a.out, "result CSV, one row per point in point order")->required();
     cmd->add_option("-j,--jobs", a.jobs, "points simulated at a time (default: number of cores)")
         ->check(CLI::Range(1u, 4096u));
@@ -628,7 +633,7 @@ int cmd_sweep(const SweepArgs& a) {
     check_out_path(a.out);
     const std::string wd = absolute_path(a.work_dir.empty() ? a.out + ".d" : a.work_dir);
     if (a.merge) {
-        if (!a.emit_jobs.empty()) throw InputError("give either --merge or --emit-jobs, not both");
+        if (!a.emit_jobs.empty()) throw UsageError("give either --merge or --emit-jobs, not both");
         const bool defines = !a.scenes.empty() || !a.meshes.empty() || !a.config.empty() || !a.sets.empty() ||
                              !a.iccs.empty() || !a.fifo.empty();
         if (!defines) return merge(wd, a, nullptr);

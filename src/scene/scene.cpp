@@ -14,6 +14,7 @@ namespace raplas {
 
 ParamSet scene_params() {
     ParamSet p("scene");
+    p.listed_by("raplas render --dump-scene");
     p.add_string("name", std::string("scene"), "scene name used in reports");
     p.add_string("mesh", std::nullopt, "OBJ file; relative paths resolve via the scene search path; unset = built-in scene");
     p.add_bool("floor", false, "add a floor quad under the mesh (2 triangles appended after the mesh's)");
@@ -203,7 +204,7 @@ Scene scene_from_params(const ParamSet& p, const std::string& mesh_override) {
 
 Scene load_scene(const SceneRequest& req) {
     if (!req.scene_file.empty() && !req.mesh_file.empty())
-        throw InputError("give either --scene or --mesh, not both");
+        throw UsageError("give either --scene or --mesh, not both");
     ParamSet p = scene_params();
     if (!req.scene_file.empty()) p.load_file(req.scene_file);
     for (const auto& o : req.overrides) p.set(o);

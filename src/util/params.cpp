@@ -9,6 +9,7 @@
 
 #include "raplas/util/error.hpp"
 #include "raplas/util/input_file.hpp"
+#include "raplas/util/nearest.hpp"
 
 namespace raplas {
 
@@ -168,11 +169,7 @@ ParamSet& ParamSet::add_vec3(const std::string& key, std::optional<Vec3d> def, c
 void ParamSet::assign(const std::string& key, const void* node_ptr, const std::string& where) {
     const toml::node& n = *static_cast<const toml::node*>(node_ptr);
     auto it = decls_.find(key);
-    if (it == decls_.end()) {
-        std::string known;
-        for (const auto& k : order_) known += (known.empty() ? "" : ", ") + k;
-        throw InputError(where + ": unknown " + what_ + " key '" + key + "' (known keys: " + known + ")");
-    }
+    if (it == decls_.end()) throw InputError(where + ": " + unknown_key_message(key, {this}));
     Decl& d = it->second;
     Value v;
     v.present = true;
@@ -260,17 +257,10 @@ void ParamSet::load_file(const std::string& path) {
 }
 
 void ParamSet::set(const std::string& assignment) {
-    auto eq = assignment.find('=');
-    if (eq == std::string::npos || eq == 0)
-        throw InputError("--set '" + assignment + "': expected key=value");
-    std::string key = assignment.substr(0, eq);
-    std::string value = assignment.substr(eq + 1);
-    while (!key.empty() && key.back() == ' ') key.pop_back();
-    if (!decls_.count(key)) {
-        std::string known;
-        for (const auto& k : order_) known += (known.empty() ? "" : ", ") + k;
-        throw InputError("--set: unknown " + what_ + " key '" + key + "' (known keys: " + known + ")");
-    }
+    const std::string full = route_assignment(assignment, {this}).second;
+    const auto eq = full.find('=');
+    const std::string key = full.substr(0, eq);
+    const std::string value = full.substr(eq + 1);
     check_nesting(value, "--set " + key, false);
     toml::table tbl;
     try {
@@ -280,6 +270,67 @@ void ParamSet::set(const std::string& assignment) {
         tbl.insert("v", value);  // a bare word is a string
     }
     assign(key, tbl.get("v"), "--set " + key);
+}
+
+std::vector<std::string> ParamSet::keys_with_leaf(const std::string& leaf) const {
+    std::vector<std::string> v;
+    for (const auto& k : order_)
+        if (k.size() > leaf.size() && k[k.size() - leaf.size() - 1] == '.' &&
+            k.compare(k.size() - leaf.size(), leaf.size(), leaf) == 0)
+            v.push_back(k);
+    return v;
+}
+
+namespace {
+
+std::string last_part(const std::string& key) { return key.substr(key.find_last_of('.') + 1); }
+
+}  // namespace
+
+std::string unknown_key_message(const std::string& key, const std::vector<const ParamSet*>& sets) {
+    std::vector<std::string> known, whats, listers;
+    for (const ParamSet* s : sets) {
+        for (const auto& k : s->keys()) known.push_back(k);
+        whats.push_back(s->what());
+        if (!s->listed_by().empty()) listers.push_back(s->listed_by());
+    }
+    // The whole key first; else its last part against the known keys' last parts.
+    std::vector<std::string> near = nearest_names(key, known);
+    if (near.empty()) {
+        std::vector<std::string> parts;
+        for (const auto& k : known) parts.push_back(last_part(k));
+        const std::vector<std::string> near_parts = nearest_names(last_part(key), parts, known.size());
+        for (const auto& k : known)
+            if (near.size() < 3 && std::find(near_parts.begin(), near_parts.end(), last_part(k)) != near_parts.end() &&
+                std::find(near.begin(), near.end(), k) == near.end())
+                near.push_back(k);
+    }
+    std::string msg = "unknown " + or_list(whats) + " key '" + key + "'";
+    if (!near.empty()) return msg + did_you_mean(near);
+    if (listers.empty()) return msg;
+    std::string list;
+    for (std::size_t i = 0; i < listers.size(); ++i) list += (i ? " and " : "") + listers[i];
+    return msg + " (" + list + (listers.size() == 1 ? " lists" : " list") + " the keys)";
+}
+
+std::pair<std::size_t, std::string> route_assignment(const std::string& assignment,
+                                                     const std::vector<const ParamSet*>& sets) {
+    const auto eq = assignment.find('=');
+    if (eq == std::string::npos || eq == 0) throw UsageError("--set '" + assignment + "': expected key=value");
+    std::string key = assignment.substr(0, eq);
+    const std::string value = assignment.substr(eq + 1);
+    while (!key.empty() && key.back() == ' ') key.pop_back();
+    for (std::size_t i = 0; i < sets.size(); ++i)
+        if (sets[i]->has(key)) return {i, key + "=" + value};
+    std::vector<std::pair<std::size_t, std::string>> matches;
+    if (key.find('.') == std::string::npos)
+        for (std::size_t i = 0; i < sets.size(); ++i)
+            for (const auto& k : sets[i]->keys_with_leaf(key)) matches.emplace_back(i, k);
+    if (matches.size() == 1) return {matches[0].first, matches[0].second + "=" + value};
+    if (matches.empty()) throw InputError("--set: " + unknown_key_message(key, sets));
+    std::vector<std::string> names;
+    for (const auto& [i, k] : matches) names.push_back("'" + k + "'");
+    throw InputError("--set: '" + key + "' could be " + or_list(names) + "; give the whole key");
 }
 
 const ParamSet::Decl& ParamSet::get(const std::string& key, Type type) const {
