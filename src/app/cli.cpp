@@ -95,7 +95,9 @@ int cmd_trace(const SceneOptions& so, const std::string& out, const std::string&
 }  // namespace
 
 void SceneOptions::add_to(CLI::App* cmd, bool with_format) {
-    cmd->add_option("--scene", scene, "scene file (TOML, see docs/SCENES.md); default: the built-in scene");
+    cmd->add_option("--scene", scene,
+                    "scene file (TOML, see docs/SCENES.md) or the name of a shipped one (bunny, cornell, ...); "
+                    "default: the built-in scene");
     cmd->add_option("--mesh", mesh, "any OBJ file, framed and lit automatically");
     cmd->add_option("--set", sets, "override a scene key, e.g. --set image.width=128 (repeatable)");
     if (with_format)
@@ -121,7 +123,7 @@ bool SceneOptions::load(Scene& out, double& load_s, const std::function<void(Par
     auto t0 = std::chrono::steady_clock::now();
     if (!scene.empty() && !mesh.empty()) throw UsageError("give either --scene or --mesh, not both");
     ParamSet p = scene_params();
-    if (!scene.empty()) p.load_file(scene);
+    if (!scene.empty()) p.load_file(find_scene_file(scene));
     for (const auto& s : sets) p.set(s);
     if (adjust) adjust(p);
     if (dump_scene) {

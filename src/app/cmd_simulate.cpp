@@ -13,27 +13,19 @@
 #include "raplas/app/sim_report.hpp"
 #include "raplas/frontend/trace_io.hpp"
 #include "raplas/util/atomic_file.hpp"
+#include "raplas/util/data_dir.hpp"
 #include "raplas/util/error.hpp"
 #include "raplas/util/files.hpp"
-
-#ifndef RAPLAS_SOURCE_DIR
-#define RAPLAS_SOURCE_DIR "."
-#endif
 
 namespace raplas {
 
 std::string resolve_config(const std::string& c) {
-    if (is_file(c)) return c;
-    for (const std::string& dir : {std::string("configs"), std::string(RAPLAS_SOURCE_DIR) + "/configs"}) {
-        if (is_file(dir + "/" + c + ".toml")) return dir + "/" + c + ".toml";
-        if (is_file(dir + "/" + c)) return dir + "/" + c;
-    }
-    throw InputError("config '" + c + "' not found (a file, or a name in configs/)");
+    return find_named_file(c, {"config", "configs", "machine configs", "raplas simulate --dump-config"});
 }
 
 void add_simulate_options(CLI::App* cmd, SimulateArgs& a) {
     a.so.add_to(cmd, false);
-    cmd->add_option("--config,-c", a.config, "machine config: a TOML file or a name in configs/ (paper, fpga)");
+    cmd->add_option("--config,-c", a.config, "machine config: a TOML file or the name of a shipped one (paper, fpga)");
     cmd->add_option("--trace", a.trace, "simulate a trace file written by 'raplas trace' instead of a scene");
     cmd->add_option("--iccs,-k", a.iccs, "ICC count (overrides machine.iccs)")->check(count_check(4096, false));
     cmd->add_option("--fifo,-d", a.fifo, "Sphere and Triangle FIFO depth (overrides fifo.sphere_depth and fifo.triangle_depth)")

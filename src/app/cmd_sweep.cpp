@@ -33,9 +33,6 @@
 #include "raplas/util/error.hpp"
 #include "raplas/util/files.hpp"
 
-#ifndef RAPLAS_SOURCE_DIR
-#define RAPLAS_SOURCE_DIR "."
-#endif
 #ifndef RAPLAS_VERSION
 #define RAPLAS_VERSION "unknown"
 #endif
@@ -174,11 +171,12 @@ Sweep make_sweep(const SweepArgs& a, const std::string& wd) {
         sw.trace_sets.push_back("spheres.triangles_per_sphere=" + std::to_string(cfg.triangles_per_sphere));
 
     json inputs = json::array();
-    for (const Input& in : sw.inputs) {
+    for (Input& in : sw.inputs) {
         if (in.kind == "builtin") {
             inputs.push_back({{"kind", "builtin"}});
             continue;
         }
+        if (in.kind == "scene") in.path = find_scene_file(in.path);
         if (!is_file(in.path)) throw InputError(in.path + ": no such file");
         if (in.kind == "scene") {
             ParamSet check = scene_params();
@@ -605,7 +603,7 @@ void add_sweep_options(CLI::App* cmd, SweepArgs& a) {
     a.cmd = cmd;
     cmd->add_option("--scene", a.scenes, "scene file (repeatable: a sweep over scenes); default: the built-in scene");
     cmd->add_option("--mesh", a.meshes, "any OBJ file, framed and lit automatically (repeatable)");
-    cmd->add_option("--config,-c", a.config, "machine config: a TOML file or a name in configs/ (paper, fpga)");
+    cmd->add_option("--config,-c", a.config, "machine config: a TOML file or the name of a shipped one (paper, fpga)");
     cmd->add_option("--set", a.sets,
                     "override a config or scene key for every point, or by its last part when one key ends in it "
                     "(repeatable)");

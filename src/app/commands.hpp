@@ -37,7 +37,8 @@ struct SimulateArgs {
     bool progress = false;
 };
 
-// A machine config: a file, or a name in configs/ (working directory, then the source tree).
+// A machine config: a file, or a name in configs/ (the working directory's,
+// then the installed data folder's or the source tree's: util/data_dir.hpp).
 std::string resolve_config(const std::string& name);
 
 // The CLI11 check of --iccs and --fifo: an integer in 1..max, or with `list`

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "raplas/util/data_dir.hpp"
 #include "raplas/util/error.hpp"
 #include "raplas/util/files.hpp"
 
@@ -41,6 +42,10 @@ ParamSet scene_params() {
                "issue no shadow group for a hit point whose surface faces away from the whole light "
                "(its direct term is zero whatever the shadow rays find; the image does not change)");
     return p;
+}
+
+std::string find_scene_file(const std::string& name) {
+    return find_named_file(name, {"scene", "scenes", "scene files", "raplas render --dump-scene"});
 }
 
 std::vector<std::string> scene_search_path(const std::string& scene_dir) {
@@ -206,7 +211,7 @@ Scene load_scene(const SceneRequest& req) {
     if (!req.scene_file.empty() && !req.mesh_file.empty())
         throw UsageError("give either --scene or --mesh, not both");
     ParamSet p = scene_params();
-    if (!req.scene_file.empty()) p.load_file(req.scene_file);
+    if (!req.scene_file.empty()) p.load_file(find_scene_file(req.scene_file));
     for (const auto& o : req.overrides) p.set(o);
     return scene_from_params(p, req.mesh_file);
 }

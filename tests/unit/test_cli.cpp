@@ -243,4 +243,32 @@ TEST_F(Cli, SetTakesTheLastPartOfAKeyWhenOneKeyEndsInIt) {
     EXPECT_THAT(slurp(dir / "jobs.txt.traces"), HasSubstr("--set image.width=8"));
 }
 
+TEST_F(Cli, ShippedConfigsAndScenesByNameFromAnyDirectory) {
+    RunResult r = run({"simulate", "--config", "fpga", "--dump-config"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(dumped(r.out, "", "name"), "\"fpga\"");
+    r = run({"render", "--scene", "cornell", "--dump-scene"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(dumped(r.out, "", "mesh"), "\"cornell/CornellBox-Original.obj\"");
+    r = run({"render", "--scene", "cornell.toml", "--dump-scene"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(dumped(r.out, "", "name"), "\"cornell\"");
+    // a file in the working directory comes first, then its configs/ folder
+    fs::create_directory(dir / "configs");
+    write("configs/paper.toml", "name = \"mine\"\n");
+    r = run({"simulate", "--config", "paper", "--dump-config"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(dumped(r.out, "", "name"), "\"mine\"");
+    write("paper", "name = \"here\"\n");
+    r = run({"simulate", "--config", "paper", "--dump-config"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(dumped(r.out, "", "name"), "\"here\"");
+    // the names listed are those of every configs/ folder searched
+    expect_input_error({"simulate", "--config", "nosuch"}, "nor a name in configs/ (fpga, paper)");
+    // a sweep reads a shipped scene by name too, and hands its children the file
+    r = run({"sweep", "--scene", "cornell", "--emit-jobs", "jobs.txt", "--out", "s.csv", "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_THAT(slurp(dir / "jobs.txt.traces"), HasSubstr("/scenes/cornell.toml"));
+}
+
 }  // namespace
