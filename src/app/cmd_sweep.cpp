@@ -610,10 +610,12 @@ void add_sweep_options(CLI::App* cmd, SweepArgs& a) {
     cmd->add_option_function<std::vector<std::string>>(
            "--iccs,-k", [&a](const std::vector<std::string>& v) { a.iccs = count_list(v); },
            "ICC counts, e.g. 1,4,16,32,48 (default: the config's)")
+        ->type_name("UINT")
         ->check(count_check(4096, true));
     cmd->add_option_function<std::vector<std::string>>(
            "--fifo,-d", [&a](const std::vector<std::string>& v) { a.fifo = count_list(v); },
            "Sphere and Triangle FIFO depths, e.g. 10,100,1000 (default: the config's)")
+        ->type_name("UINT")
         ->check(count_check(100000000, true));
     cmd->add_option("-o,--out", a.out, "result CSV, one row per point in point order")->required();
     cmd->add_option("-j,--jobs", a.jobs, "points simulated at a time (default: number of cores)")
