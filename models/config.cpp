@@ -40,6 +40,7 @@ void memory_system_from_params(const ParamSet& p, SimConfig& c) {
 
 ParamSet machine_params() {
     ParamSet p("config");
+    p.listed_by("raplas simulate --dump-config");
     p.add_string("name", std::string("custom"), "configuration name used in reports");
     p.add_int("machine.iccs", 1, 1, 4096, "number of Intersection Calculation Cores (ICCs)");
     p.add_real("machine.clock_mhz", 400.0, 1.0, 100000.0, "clock frequency, MHz (time and bandwidth reports)");

@@ -57,7 +57,7 @@ def doc_text(cases):
         "",
         "Exit codes: 0 success, 2 bad input or usage (one line `raplas: error: ...` naming the file",
         "and line, or the key or option), 1 internal error. `...` in a message stands for text left",
-        "out here (lists of known keys, search paths, temporary directories). A warning",
+        "out here (search paths, temporary directories). A warning",
         "(`raplas: warning: ...`) leaves the exit code at 0.",
     ]
     section = None

@@ -4,7 +4,10 @@
 #include "memory_checks.hpp"
 
 #include <CLI/CLI.hpp>
+#include <cctype>
+#include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
@@ -94,7 +97,9 @@ int cmd_trace(const SceneOptions& so, const std::string& out, const std::string&
 }  // namespace
 
 void SceneOptions::add_to(CLI::App* cmd, bool with_format) {
-    cmd->add_option("--scene", scene, "scene file (TOML, see docs/SCENES.md); default: the built-in scene");
+    cmd->add_option("--scene", scene,
+                    "scene file (TOML, see docs/SCENES.md) or the name of a shipped one (bunny, cornell, ...); "
+                    "default: the built-in scene");
     cmd->add_option("--mesh", mesh, "any OBJ file, framed and lit automatically");
     cmd->add_option("--set", sets, "override a scene key, e.g. --set image.width=128 (repeatable)");
     if (with_format)
@@ -112,15 +117,15 @@ NumFormat SceneOptions::parsed_format() const {
     try {
         return NumFormat::parse(format);
     } catch (const std::invalid_argument& e) {
-        throw InputError(std::string("--format: ") + e.what());
+        throw UsageError(std::string("--format: ") + e.what());
     }
 }
 
 bool SceneOptions::load(Scene& out, double& load_s, const std::function<void(ParamSet&)>& adjust) const {
     auto t0 = std::chrono::steady_clock::now();
-    if (!scene.empty() && !mesh.empty()) throw InputError("give either --scene or --mesh, not both");
+    if (!scene.empty() && !mesh.empty()) throw UsageError("give either --scene or --mesh, not both");
     ParamSet p = scene_params();
-    if (!scene.empty()) p.load_file(scene);
+    if (!scene.empty()) p.load_file(find_scene_file(scene));
     for (const auto& s : sets) p.set(s);
     if (adjust) adjust(p);
     out = scene_from_params(p, mesh);
@@ -132,6 +137,97 @@ bool SceneOptions::load(Scene& out, double& load_s, const std::function<void(Par
     for (const auto& w : out.mesh.warnings) std::cerr << "raplas: warning: " << InputError::printable(w) << "\n";
     load_s = since(t0);
     return true;
+}
+
+namespace {
+
+// An integer as it is written in a config file: an optional sign and digits.
+bool integer_text(const std::string& t) {
+    const std::size_t start = !t.empty() && (t[0] == '-' || t[0] == '+') ? 1 : 0;
+    return t.size() > start && t.find_first_not_of("0123456789", start) == std::string::npos;
+}
+
+// The integer a text that is not one was probably meant to be: 1e3 is
+// 1000, and so are 1,000, 1_000, 1'000 and 1 000 (groups of three digits);
+// "" when there is none.
+std::string integer_meant(const std::string& t) {
+    std::vector<std::string> groups(1);
+    bool other = false;
+    for (const char c : t) {
+        if (std::isdigit(static_cast<unsigned char>(c))) groups.back() += c;
+        else if (c == ',' || c == '_' || c == '\'' || c == ' ') groups.emplace_back();
+        else other = true;
+    }
+    bool grouped = !other && groups.size() > 1 && !groups[0].empty() && groups[0].size() <= 3;
+    std::string digits;
+    for (std::size_t i = 0; i < groups.size(); ++i) {
+        grouped = grouped && integer_text(groups[i]) && (i == 0 || groups[i].size() == 3);
+        digits += groups[i];
+    }
+    if (grouped) return digits;
+    char* end = nullptr;
+    const double d = std::strtod(t.c_str(), &end);
+    if (end == t.c_str() || *end != '\0' || !std::isfinite(d) || d != std::floor(d) || std::fabs(d) >= 1e18) return "";
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.0f", d);
+    return buf;
+}
+
+// "" when `item` is an integer in 1..max; else what is wrong, quoting it as `shown`.
+std::string count_problem(const std::string& item, const std::string& shown, std::uint32_t max) {
+    if (!integer_text(item)) {
+        const std::string meant = integer_meant(item);
+        return shown + " is not an integer" + (meant.empty() ? "" : "; write " + meant);
+    }
+    errno = 0;
+    const long long v = std::strtoll(item.c_str(), nullptr, 10);
+    if (errno == ERANGE || v < 1 || v > max) return shown + " is not in 1.." + std::to_string(max);
+    return "";
+}
+
+}  // namespace
+
+CLI::Validator count_check(std::uint32_t max, bool list) {
+    auto check = [max, list](std::string& text) -> std::string {
+        if (!list) return count_problem(text, integer_text(text) ? text : "'" + text + "'", max);
+        std::vector<std::string> items;
+        for (std::size_t start = 0;;) {
+            const std::size_t comma = text.find(',', start);
+            items.push_back(text.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+            if (comma == std::string::npos) break;
+            start = comma + 1;
+        }
+        if (items.size() == 1) return count_problem(text, integer_text(text) ? text : "'" + text + "'", max);
+        // 1,000 written for one thousand: every item after the first three digits
+        bool thousands = items[0].size() >= 1 && items[0].size() <= 3;
+        std::string joined = items[0];
+        for (std::size_t i = 0; i < items.size(); ++i) {
+            thousands = thousands && integer_text(items[i]) && items[i][0] != '+' && items[i][0] != '-' &&
+                        (i == 0 || items[i].size() == 3);
+            if (i) joined += items[i];
+        }
+        for (const auto& item : items) {
+            if (item.empty()) return "'" + text + "' has an empty item";
+            std::string p = count_problem(item, (integer_text(item) ? item : "'" + item + "'") + " in '" + text + "'", max);
+            if (p.empty()) continue;
+            if (thousands) p += "; ',' separates list items, so write " + joined + " for the number " + joined;
+            return p;
+        }
+        return "";
+    };
+    return CLI::Validator(check, list ? "1.." + std::to_string(max) + ",..." : "1.." + std::to_string(max));
+}
+
+std::vector<std::uint32_t> count_list(const std::vector<std::string>& texts) {
+    std::vector<std::uint32_t> v;
+    for (const auto& t : texts)
+        for (std::size_t start = 0;;) {
+            const std::size_t comma = t.find(',', start);
+            v.push_back(std::uint32_t(std::stoul(t.substr(start, comma == std::string::npos ? std::string::npos : comma - start))));
+            if (comma == std::string::npos) break;
+            start = comma + 1;
+        }
+    return v;
 }
 
 int run_cli(int argc, char** argv) {
@@ -179,6 +275,12 @@ int run_cli(int argc, char** argv) {
                         "refuse runs estimated to need more memory than this, e.g. 4G, or off "
                         "(default: what the machine has available; docs/MEMORY.md)");
 
+    // Where a wrong command line is explained: the help of the subcommand it was for.
+    auto help = [&] {
+        for (const auto* cmd : {render, trace, simulate, sweep})
+            if (cmd->parsed()) return " (see raplas " + cmd->get_name() + " --help)";
+        return std::string(" (see raplas --help)");
+    };
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -188,7 +290,7 @@ int run_cli(int argc, char** argv) {
     } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        std::cerr << "raplas: error: " << e.what() << " (see raplas --help)\n";
+        std::cerr << "raplas: error: " << e.what() << help() << "\n";
         return kExitInputError;
     }
     try {
@@ -200,6 +302,9 @@ int run_cli(int argc, char** argv) {
         if (trace->parsed()) return cmd_trace(trace_so, trace_out, trace_json, trace_select);
         if (simulate->parsed()) return cmd_simulate(sim);
         if (sweep->parsed()) return cmd_sweep(sweep_args);
+    } catch (const UsageError& e) {
+        std::cerr << "raplas: error: " << e.what() << help() << "\n";
+        return kExitInputError;
     } catch (const InputError& e) {
         std::cerr << "raplas: error: " << e.what() << "\n";
         return kExitInputError;

@@ -13,31 +13,23 @@
 #include "raplas/app/sim_report.hpp"
 #include "raplas/frontend/trace_io.hpp"
 #include "raplas/util/atomic_file.hpp"
+#include "raplas/util/data_dir.hpp"
 #include "raplas/util/error.hpp"
 #include "raplas/util/files.hpp"
-
-#ifndef RAPLAS_SOURCE_DIR
-#define RAPLAS_SOURCE_DIR "."
-#endif
 
 namespace raplas {
 
 std::string resolve_config(const std::string& c) {
-    if (is_file(c)) return c;
-    for (const std::string& dir : {std::string("configs"), std::string(RAPLAS_SOURCE_DIR) + "/configs"}) {
-        if (is_file(dir + "/" + c + ".toml")) return dir + "/" + c + ".toml";
-        if (is_file(dir + "/" + c)) return dir + "/" + c;
-    }
-    throw InputError("config '" + c + "' not found (a file, or a name in configs/)");
+    return find_named_file(c, {"config", "configs", "machine configs", "raplas simulate --dump-config"});
 }
 
 void add_simulate_options(CLI::App* cmd, SimulateArgs& a) {
     a.so.add_to(cmd, false);
-    cmd->add_option("--config,-c", a.config, "machine config: a TOML file or a name in configs/ (paper, fpga)");
+    cmd->add_option("--config,-c", a.config, "machine config: a TOML file or the name of a shipped one (paper, fpga)");
     cmd->add_option("--trace", a.trace, "simulate a trace file written by 'raplas trace' instead of a scene");
-    cmd->add_option("--iccs,-k", a.iccs, "ICC count (overrides machine.iccs)")->check(CLI::Range(1u, 4096u));
+    cmd->add_option("--iccs,-k", a.iccs, "ICC count (overrides machine.iccs)")->check(count_check(4096, false));
     cmd->add_option("--fifo,-d", a.fifo, "Sphere and Triangle FIFO depth (overrides fifo.sphere_depth and fifo.triangle_depth)")
-        ->check(CLI::Range(1u, 100000000u));
+        ->check(count_check(100000000, false));
     cmd->add_option("--json", a.json, "all statistics as JSON");
     cmd->add_option("--csv", a.csv, "the main figures as one CSV row with a header");
     cmd->add_option("--vcd", a.vcd, "VCD waveform of the top-level handshakes (GTKWave)");
@@ -45,7 +37,9 @@ void add_simulate_options(CLI::App* cmd, SimulateArgs& a) {
     cmd->add_flag("--progress", a.progress, "progress on stderr (default: when stderr is a terminal)");
     // --set goes to the machine config when it names a config key, else to the scene.
     cmd->remove_option(cmd->get_option("--set"));
-    cmd->add_option("--set", a.config_sets, "override a config or scene key, e.g. --set fifo.planeid_depth=4 (repeatable)");
+    cmd->add_option("--set", a.config_sets,
+                    "override a config or scene key, e.g. --set fifo.planeid_depth=4, or by its last part when "
+                    "one key ends in it: --set rti_pipes=2 (repeatable)");
 }
 
 int cmd_simulate(const SimulateArgs& a) {
@@ -59,10 +53,11 @@ int cmd_simulate(const SimulateArgs& a) {
     }
     const ParamSet named = mp;  // what the reports call config_name
     SceneOptions so = a.so;
+    const ParamSet sp = scene_params();
     for (const auto& s : a.config_sets) {
-        std::string key = s.substr(0, s.find('='));
-        if (mp.has(key) || !scene_params().has(key)) mp.set(s);
-        else so.sets.push_back(s);
+        const auto [set, assignment] = route_assignment(s, {&mp, &sp});
+        if (set == 0) mp.set(assignment);
+        else so.sets.push_back(assignment);
     }
     if (a.iccs) mp.set("machine.iccs=" + std::to_string(a.iccs));
     if (a.fifo) {
@@ -80,7 +75,7 @@ int cmd_simulate(const SimulateArgs& a) {
     Trace trace;
     std::string scene_name;
     if (!a.trace.empty()) {
-        if (!so.scene.empty() || !so.mesh.empty()) throw InputError("give either --trace or --scene/--mesh, not both");
+        if (!so.scene.empty() || !so.mesh.empty()) throw UsageError("give either --trace or --scene/--mesh, not both");
         struct stat st{};
         if (::stat(a.trace.c_str(), &st) == 0 && S_ISREG(st.st_mode)) check_trace_read(a.trace, std::uint64_t(st.st_size));
         trace = read_trace(a.trace);

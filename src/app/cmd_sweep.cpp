@@ -41,9 +41,6 @@
 #include "raplas/util/files.hpp"
 #include "raplas/util/input_file.hpp"
 
-#ifndef RAPLAS_SOURCE_DIR
-#define RAPLAS_SOURCE_DIR "."
-#endif
 #ifndef RAPLAS_VERSION
 #define RAPLAS_VERSION "unknown"
 #endif
@@ -126,14 +123,12 @@ struct Sweep {
     }
 };
 
-std::vector<std::uint32_t> checked_list(const std::vector<std::uint32_t>& v, const char* opt, std::uint32_t max) {
+// The values of --iccs or --fifo (each in range: count_check), each once.
+std::vector<std::uint32_t> checked_list(const std::vector<std::uint32_t>& v, const char* opt) {
     if (v.empty()) return {0};
-    for (std::size_t i = 0; i < v.size(); ++i) {
-        if (v[i] < 1 || v[i] > max)
-            throw InputError(std::string(opt) + ": " + std::to_string(v[i]) + " is not in 1.." + std::to_string(max));
+    for (std::size_t i = 0; i < v.size(); ++i)
         for (std::size_t j = 0; j < i; ++j)
-            if (v[j] == v[i]) throw InputError(std::string(opt) + ": " + std::to_string(v[i]) + " is given twice");
-    }
+            if (v[j] == v[i]) throw UsageError(std::string(opt) + ": " + std::to_string(v[i]) + " is given twice");
     return v;
 }
 
@@ -207,8 +202,8 @@ Sweep make_sweep(const SweepArgs& a, const std::string& wd) {
     sw.inputs = ordered_inputs(a);
     sw.config = a.config;
     sw.layout.inputs = sw.inputs.size();
-    sw.layout.iccs = checked_list(a.iccs, "--iccs", 4096);
-    sw.layout.fifo = checked_list(a.fifo, "--fifo", 100000000);
+    sw.layout.iccs = checked_list(a.iccs, "--iccs");
+    sw.layout.fifo = checked_list(a.fifo, "--fifo");
     sw.wd = wd;
 
     ParamSet mp = model::machine_params();
@@ -220,14 +215,14 @@ Sweep make_sweep(const SweepArgs& a, const std::string& wd) {
     }
     ParamSet sp = scene_params();
     for (const auto& s : a.sets) {
-        if (s.find('=') == std::string::npos) throw InputError("--set " + s + ": expected key=value");
-        const std::string key = key_of(s);
-        if (mp.has(key) || !sp.has(key)) {
-            mp.set(s);
-            sw.config_sets.push_back(s);
+        // The children get whole keys: a last part may name another key in a set alone.
+        const auto [set, assignment] = route_assignment(s, {&mp, &sp});
+        if (set == 0) {
+            mp.set(assignment);
+            sw.config_sets.push_back(assignment);
         } else {
-            sp.set(s);
-            sw.scene_sets.push_back(s);
+            sp.set(assignment);
+            sw.scene_sets.push_back(assignment);
         }
     }
     json vary_spec = json::array();
@@ -235,12 +230,16 @@ Sweep make_sweep(const SweepArgs& a, const std::string& wd) {
         const auto eq = v.find('=');
         if (eq == std::string::npos || eq == 0) throw InputError("--vary '" + v + "': expected KEY=V1,V2,... or KEY=A..B");
         Vary x;
-        x.key = key_of(v);
-        x.config = mp.has(x.key) || !sp.has(x.key);
+        // The key as --set routes it: a config key, else a scene key; a bare last part names the one key ending in it.
+        const auto [set, whole] = route_assignment(v.substr(0, eq) + "=", {&mp, &sp}, "--vary");
+        x.key = whole.substr(0, whole.size() - 1);
+        x.config = set == 0;
         if (x.key == "machine.iccs") throw InputError("--vary machine.iccs: give the ICC counts with --iccs");
         if ((x.key == "fifo.sphere_depth" || x.key == "fifo.triangle_depth") && !a.fifo.empty())
             throw InputError("--vary " + x.key + ": --fifo sets it for every point; vary one or the other");
-        for (const auto& s : a.sets)
+        for (const auto& s : sw.config_sets)
+            if (key_of(s) == x.key) throw InputError("--vary " + x.key + ": also given with --set");
+        for (const auto& s : sw.scene_sets)
             if (key_of(s) == x.key) throw InputError("--vary " + x.key + ": also given with --set");
         for (const auto& y : sw.layout.vary)
             if (y.key == x.key) throw InputError("--vary " + x.key + ": given twice");
@@ -286,11 +285,12 @@ Sweep make_sweep(const SweepArgs& a, const std::string& wd) {
     }
 
     json inputs = json::array();
-    for (const Input& in : sw.inputs) {
+    for (Input& in : sw.inputs) {
         if (in.kind == "builtin") {
             inputs.push_back({{"kind", "builtin"}});
             continue;
         }
+        if (in.kind == "scene") in.path = find_scene_file(in.path);
         if (!is_file(in.path)) throw InputError(in.path + ": no such file");
         if (in.kind == "scene") {
             ParamSet check = scene_params();
@@ -443,7 +443,7 @@ std::unique_ptr<WorkDirLock> open_work_dir(const Sweep& sw) {
 // ---- results -----------------------------------------------------------------
 
 void check_out_path(const std::string& out) {
-    if (out.empty()) throw InputError("--out: give the result CSV");
+    if (out.empty()) throw UsageError("--out: give the result CSV");
     if (fs::is_directory(out)) throw InputError(out + ": is a directory");
     const fs::path parent = fs::absolute(out).parent_path();
     if (!fs::is_directory(parent)) throw InputError(out + ": directory " + parent.string() + " does not exist");
@@ -751,14 +751,23 @@ void add_sweep_options(CLI::App* cmd, SweepArgs& a) {
     a.cmd = cmd;
     cmd->add_option("--scene", a.scenes, "scene file (repeatable: a sweep over scenes); default: the built-in scene");
     cmd->add_option("--mesh", a.meshes, "any OBJ file, framed and lit automatically (repeatable)");
-    cmd->add_option("--config,-c", a.config, "machine config: a TOML file or a name in configs/ (paper, fpga)");
-    cmd->add_option("--set", a.sets, "override a config or scene key for every point (repeatable)");
+    cmd->add_option("--config,-c", a.config, "machine config: a TOML file or the name of a shipped one (paper, fpga)");
+    cmd->add_option("--set", a.sets,
+                    "override a config or scene key for every point, or by its last part when one key ends in it "
+                    "(repeatable)");
     cmd->add_option("--vary", a.vary,
                     "sweep a config or scene key too: KEY=V1,V2,... or KEY=A..B (integers A to B), repeatable; "
                     "points are the cross product, and each varied key is a CSV column (docs/SWEEPS.md)");
-    cmd->add_option("--iccs,-k", a.iccs, "ICC counts, e.g. 1,4,16,32,48 (default: the config's)")->delimiter(',');
-    cmd->add_option("--fifo,-d", a.fifo, "Sphere and Triangle FIFO depths, e.g. 10,100,1000 (default: the config's)")
-        ->delimiter(',');
+    cmd->add_option_function<std::vector<std::string>>(
+           "--iccs,-k", [&a](const std::vector<std::string>& v) { a.iccs = count_list(v); },
+           "ICC counts, e.g. 1,4,16,32,48 (default: the config's)")
+        ->type_name("UINT")
+        ->check(count_check(4096, true));
+    cmd->add_option_function<std::vector<std::string>>(
+           "--fifo,-d", [&a](const std::vector<std::string>& v) { a.fifo = count_list(v); },
+           "Sphere and Triangle FIFO depths, e.g. 10,100,1000 (default: the config's)")
+        ->type_name("UINT")
+        ->check(count_check(100000000, true));
     cmd->add_option("-o,--out", a.out, "result CSV, one row per point in point order")->required();
     cmd->add_option("-j,--jobs", a.jobs, "points simulated at a time (default: number of cores)")
         ->check(CLI::Range(1u, 4096u));
@@ -787,7 +796,7 @@ int cmd_sweep(const SweepArgs& a) {
     check_out_path(a.out);
     const std::string wd = absolute_path(a.work_dir.empty() ? a.out + ".d" : a.work_dir);
     if (a.merge) {
-        if (!a.emit_jobs.empty()) throw InputError("give either --merge or --emit-jobs, not both");
+        if (!a.emit_jobs.empty()) throw UsageError("give either --merge or --emit-jobs, not both");
         const bool defines = !a.scenes.empty() || !a.meshes.empty() || !a.config.empty() || !a.sets.empty() ||
                              !a.vary.empty() || !a.iccs.empty() || !a.fifo.empty();
         if (!defines) return merge(wd, a, nullptr);

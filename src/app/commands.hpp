@@ -37,8 +37,17 @@ struct SimulateArgs {
     bool progress = false;
 };
 
-// A machine config: a file, or a name in configs/ (working directory, then the source tree).
+// A machine config: a file, or a name in configs/ (the working directory's,
+// then the installed data folder's or the source tree's: util/data_dir.hpp).
 std::string resolve_config(const std::string& name);
+
+// The CLI11 check of --iccs and --fifo: an integer in 1..max, or with `list`
+// comma-separated integers in 1..max. A text that is not an integer is
+// refused, naming the integer probably meant ("'1e3' is not an integer;
+// write 1000"); so is 1,000 in a list (1 and 000).
+CLI::Validator count_check(std::uint32_t max, bool list);
+// The integers of texts that passed count_check(max, true).
+std::vector<std::uint32_t> count_list(const std::vector<std::string>& texts);
 
 void add_simulate_options(CLI::App* cmd, SimulateArgs& a);
 int cmd_simulate(const SimulateArgs& a);

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "raplas/util/data_dir.hpp"
 #include "raplas/util/error.hpp"
 #include "raplas/util/files.hpp"
 
@@ -16,6 +17,7 @@ namespace raplas {
 
 ParamSet scene_params() {
     ParamSet p("scene");
+    p.listed_by("raplas render --dump-scene");
     p.add_string("name", std::string("scene"), "scene name used in reports");
     p.add_string("mesh", std::nullopt, "OBJ file; relative paths resolve via the scene search path; unset = built-in scene");
     p.add_bool("floor", false, "add a floor quad under the mesh (2 triangles appended after the mesh's)");
@@ -42,6 +44,10 @@ ParamSet scene_params() {
                "issue no shadow group for a hit point whose surface faces away from the whole light "
                "(its direct term is zero whatever the shadow rays find; the image does not change)");
     return p;
+}
+
+std::string find_scene_file(const std::string& name) {
+    return find_named_file(name, {"scene", "scenes", "scene files", "raplas render --dump-scene"});
 }
 
 std::vector<std::string> scene_search_path(const std::string& scene_dir) {
@@ -277,9 +283,9 @@ void resolve_scene_params(ParamSet& p, const Scene& s, const std::string& mesh_o
 
 Scene load_scene(const SceneRequest& req) {
     if (!req.scene_file.empty() && !req.mesh_file.empty())
-        throw InputError("give either --scene or --mesh, not both");
+        throw UsageError("give either --scene or --mesh, not both");
     ParamSet p = scene_params();
-    if (!req.scene_file.empty()) p.load_file(req.scene_file);
+    if (!req.scene_file.empty()) p.load_file(find_scene_file(req.scene_file));
     for (const auto& o : req.overrides) p.set(o);
     return scene_from_params(p, req.mesh_file);
 }

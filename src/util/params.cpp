@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <sstream>
 #include <toml++/toml.h>
 
 #include "raplas/util/error.hpp"
 #include "raplas/util/input_file.hpp"
+#include "raplas/util/nearest.hpp"
 
 namespace raplas {
 
@@ -24,21 +26,31 @@ const char* type_name(ParamSet::Type t) {
     return "?";
 }
 
+// A real as it would be written: whole numbers below a million with one
+// decimal (400.0, not 4e+02), others in the shortest text that reads back to
+// the same double, exponents without '+' or leading zeros (1e-6, 2.5e9).
+// Always valid TOML for a float.
 std::string fmt_real(double d) {
     char buf[64];
-    // whole numbers as written (400.0, not 4e+02)
-    if (std::isfinite(d) && d == std::floor(d) && std::fabs(d) < 1e15) {
+    if (std::isfinite(d) && d == std::floor(d) && std::fabs(d) < 1e6) {
         std::snprintf(buf, sizeof buf, "%.1f", d);
         return buf;
     }
     std::snprintf(buf, sizeof buf, "%.17g", d);
     std::string s = buf;
-    // shortest text that reads back to the same double
     for (int prec = 1; prec < 17; ++prec) {
         std::snprintf(buf, sizeof buf, "%.*g", prec, d);
         if (std::strtod(buf, nullptr) == d) { s = buf; break; }
     }
-    if (s.find_first_of(".eEn") == std::string::npos) s += ".0";
+    const auto e = s.find('e');
+    if (e != std::string::npos) {
+        std::string exp = s.substr(e + 1);
+        const bool neg = !exp.empty() && exp[0] == '-';
+        if (!exp.empty() && (exp[0] == '-' || exp[0] == '+')) exp.erase(0, 1);
+        exp.erase(0, std::min(exp.find_first_not_of('0'), exp.size() - 1));
+        s = s.substr(0, e + 1) + (neg ? "-" : "") + exp;
+    }
+    if (s.find_first_of(".en") == std::string::npos) s += ".0";
     return s;
 }
 
@@ -157,11 +169,7 @@ ParamSet& ParamSet::add_vec3(const std::string& key, std::optional<Vec3d> def, c
 void ParamSet::assign(const std::string& key, const void* node_ptr, const std::string& where) {
     const toml::node& n = *static_cast<const toml::node*>(node_ptr);
     auto it = decls_.find(key);
-    if (it == decls_.end()) {
-        std::string known;
-        for (const auto& k : order_) known += (known.empty() ? "" : ", ") + k;
-        throw InputError(where + ": unknown " + what_ + " key '" + key + "' (known keys: " + known + ")");
-    }
+    if (it == decls_.end()) throw InputError(where + ": " + unknown_key_message(key, {this}));
     Decl& d = it->second;
     Value v;
     v.present = true;
@@ -249,17 +257,10 @@ void ParamSet::load_file(const std::string& path) {
 }
 
 void ParamSet::set(const std::string& assignment, const std::string& option) {
-    auto eq = assignment.find('=');
-    if (eq == std::string::npos || eq == 0)
-        throw InputError(option + " '" + assignment + "': expected key=value");
-    std::string key = assignment.substr(0, eq);
-    std::string value = assignment.substr(eq + 1);
-    while (!key.empty() && key.back() == ' ') key.pop_back();
-    if (!decls_.count(key)) {
-        std::string known;
-        for (const auto& k : order_) known += (known.empty() ? "" : ", ") + k;
-        throw InputError(option + ": unknown " + what_ + " key '" + key + "' (known keys: " + known + ")");
-    }
+    const std::string full = route_assignment(assignment, {this}, option).second;
+    const auto eq = full.find('=');
+    const std::string key = full.substr(0, eq);
+    const std::string value = full.substr(eq + 1);
     check_nesting(value, option + " " + key, false);
     toml::table tbl;
     try {
@@ -269,6 +270,68 @@ void ParamSet::set(const std::string& assignment, const std::string& option) {
         tbl.insert("v", value);  // a bare word is a string
     }
     assign(key, tbl.get("v"), option + " " + key);
+}
+
+std::vector<std::string> ParamSet::keys_with_leaf(const std::string& leaf) const {
+    std::vector<std::string> v;
+    for (const auto& k : order_)
+        if (k.size() > leaf.size() && k[k.size() - leaf.size() - 1] == '.' &&
+            k.compare(k.size() - leaf.size(), leaf.size(), leaf) == 0)
+            v.push_back(k);
+    return v;
+}
+
+namespace {
+
+std::string last_part(const std::string& key) { return key.substr(key.find_last_of('.') + 1); }
+
+}  // namespace
+
+std::string unknown_key_message(const std::string& key, const std::vector<const ParamSet*>& sets) {
+    std::vector<std::string> known, whats, listers;
+    for (const ParamSet* s : sets) {
+        for (const auto& k : s->keys()) known.push_back(k);
+        whats.push_back(s->what());
+        if (!s->listed_by().empty()) listers.push_back(s->listed_by());
+    }
+    // The whole key first; else its last part against the known keys' last parts.
+    std::vector<std::string> near = nearest_names(key, known);
+    if (near.empty()) {
+        std::vector<std::string> parts;
+        for (const auto& k : known) parts.push_back(last_part(k));
+        const std::vector<std::string> near_parts = nearest_names(last_part(key), parts, known.size());
+        for (const auto& k : known)
+            if (near.size() < 3 && std::find(near_parts.begin(), near_parts.end(), last_part(k)) != near_parts.end() &&
+                std::find(near.begin(), near.end(), k) == near.end())
+                near.push_back(k);
+    }
+    std::string msg = "unknown " + or_list(whats) + " key '" + key + "'";
+    if (!near.empty()) return msg + did_you_mean(near);
+    if (listers.empty()) return msg;
+    std::string list;
+    for (std::size_t i = 0; i < listers.size(); ++i) list += (i ? " and " : "") + listers[i];
+    return msg + " (" + list + (listers.size() == 1 ? " lists" : " list") + " the keys)";
+}
+
+std::pair<std::size_t, std::string> route_assignment(const std::string& assignment,
+                                                     const std::vector<const ParamSet*>& sets,
+                                                     const std::string& option) {
+    const auto eq = assignment.find('=');
+    if (eq == std::string::npos || eq == 0) throw UsageError(option + " '" + assignment + "': expected key=value");
+    std::string key = assignment.substr(0, eq);
+    const std::string value = assignment.substr(eq + 1);
+    while (!key.empty() && key.back() == ' ') key.pop_back();
+    for (std::size_t i = 0; i < sets.size(); ++i)
+        if (sets[i]->has(key)) return {i, key + "=" + value};
+    std::vector<std::pair<std::size_t, std::string>> matches;
+    if (key.find('.') == std::string::npos)
+        for (std::size_t i = 0; i < sets.size(); ++i)
+            for (const auto& k : sets[i]->keys_with_leaf(key)) matches.emplace_back(i, k);
+    if (matches.size() == 1) return {matches[0].first, matches[0].second + "=" + value};
+    if (matches.empty()) throw InputError(option + ": " + unknown_key_message(key, sets));
+    std::vector<std::string> names;
+    for (const auto& [i, k] : matches) names.push_back("'" + k + "'");
+    throw InputError(option + ": '" + key + "' could be " + or_list(names) + "; give the whole key");
 }
 
 const ParamSet::Decl& ParamSet::get(const std::string& key, Type type) const {

@@ -261,6 +261,64 @@ TEST_F(Cli, DumpSceneIsValidSceneInput) {
     EXPECT_EQ(b.out, a.out);
 }
 
+// The value a dump (TOML, [section] headers) gives `key` in `section`.
+std::string dumped(const std::string& dump, const std::string& section, const std::string& key) {
+    std::string current;
+    for (const auto& line : lines_of(dump)) {
+        if (!line.empty() && line[0] == '[') current = line.substr(1, line.find(']') - 1);
+        else if (current == section && line.rfind(key + " = ", 0) == 0) return line.substr(key.size() + 3);
+    }
+    return "";
+}
+
+TEST_F(Cli, SetTakesTheLastPartOfAKeyWhenOneKeyEndsInIt) {
+    RunResult r = run({"simulate", "--set", "rti_pipes=2", "--set", "triangle_depth=7", "--dump-config"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(dumped(r.out, "icc", "rti_pipes"), "2");
+    EXPECT_EQ(dumped(r.out, "fifo", "triangle_depth"), "7");
+    // simulate gives scene keys to the scene
+    r = run({"simulate", "--set", "width=9", "--set", "fov_deg=31.5", "--dump-scene"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(dumped(r.out, "image", "width"), "9");
+    EXPECT_EQ(dumped(r.out, "camera", "fov_deg"), "31.5");
+    r = run({"render", "--set", "height=5", "--dump-scene"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(dumped(r.out, "image", "height"), "5");
+    // a sweep hands its children whole keys (a last part alone could name another key)
+    r = run({"sweep", "--set", "rti_pipes=2", "--set", "width=8", "--emit-jobs", "jobs.txt", "--out", "s.csv", "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_THAT(slurp(dir / "jobs.txt"), HasSubstr("--set icc.rti_pipes=2"));
+    EXPECT_THAT(slurp(dir / "jobs.txt.traces"), HasSubstr("--set image.width=8"));
+}
+
+TEST_F(Cli, ShippedConfigsAndScenesByNameFromAnyDirectory) {
+    RunResult r = run({"simulate", "--config", "fpga", "--dump-config"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(dumped(r.out, "", "name"), "\"fpga\"");
+    r = run({"render", "--scene", "cornell", "--dump-scene"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(dumped(r.out, "", "mesh"), "\"cornell/CornellBox-Original.obj\"");
+    r = run({"render", "--scene", "cornell.toml", "--dump-scene"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(dumped(r.out, "", "name"), "\"cornell\"");
+    // a file in the working directory comes first, then its configs/ folder
+    fs::create_directory(dir / "configs");
+    write("configs/paper.toml", "name = \"mine\"\n");
+    r = run({"simulate", "--config", "paper", "--dump-config"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(dumped(r.out, "", "name"), "\"mine\"");
+    write("paper", "name = \"here\"\n");
+    r = run({"simulate", "--config", "paper", "--dump-config"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(dumped(r.out, "", "name"), "\"here\"");
+    // the names listed are those of every configs/ folder searched
+    expect_input_error({"simulate", "--config", "nosuch"}, "nor a name in configs/ (fpga, paper)");
+    // a sweep reads a shipped scene by name too, and hands its children the file
+    r = run({"sweep", "--scene", "cornell", "--emit-jobs", "jobs.txt", "--out", "s.csv", "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_THAT(slurp(dir / "jobs.txt.traces"), HasSubstr("/scenes/cornell.toml"));
+}
+
 }  // namespace
 
 namespace {

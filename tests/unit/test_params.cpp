@@ -11,7 +11,9 @@
 #include <string>
 
 #include "raplas/scene/scene.hpp"
+#include "config.hpp"
 #include "raplas/util/error.hpp"
+#include "raplas/util/nearest.hpp"
 #include "raplas/util/params.hpp"
 
 namespace {
@@ -118,8 +120,15 @@ TEST_F(ParamsTest, UnknownKeyNamesFileLineAndKey) {
     const std::string f = write("u.toml", "count = 3\n\ncolour = 5\n");
     std::string msg = error_of([&] { p.load_file(f); });
     EXPECT_THAT(msg, AllOf(HasSubstr(f + ":3"), HasSubstr("'colour'"), HasSubstr("unknown")));
-    // known keys are listed to help the user
-    EXPECT_THAT(msg, HasSubstr("count"));
+    // no key is near 'colour', and this set names no command that lists them: nothing more
+    EXPECT_EQ(msg, f + ":3: unknown test key 'colour'");
+    // a set that names one points there
+    ParamSet listed = make();
+    listed.listed_by("raplas test --dump");
+    EXPECT_EQ(error_of([&] { listed.load_file(f); }), f + ":3: unknown test key 'colour' (raplas test --dump lists the keys)");
+    // a near key is named instead of the list
+    const std::string near = write("n.toml", "cuont = 3\n");
+    EXPECT_EQ(error_of([&] { listed.load_file(near); }), near + ":1: unknown test key 'cuont' (did you mean 'count'?)");
     // in a section: the full dotted key
     const std::string g = write("s.toml", "[sec]\nn = 1\nnn = 2\n");
     msg = error_of([&] { make().load_file(g); });
@@ -270,6 +279,115 @@ TEST_F(ParamsTest, SetOverrides) {
     q.load_file(f);
     q.set("count=5");
     EXPECT_EQ(q.get_int("count"), 5);
+}
+
+TEST(Nearest, DamerauLevenshteinDistance) {
+    using raplas::edit_distance;
+    EXPECT_EQ(edit_distance("", ""), 0u);
+    EXPECT_EQ(edit_distance("", "abc"), 3u);
+    EXPECT_EQ(edit_distance("abc", ""), 3u);
+    EXPECT_EQ(edit_distance("paper", "paper"), 0u);
+    EXPECT_EQ(edit_distance("kitten", "sitting"), 3u);
+    EXPECT_EQ(edit_distance("fgpa", "fpga"), 1u);  // two neighbours swapped: one edit
+    EXPECT_EQ(edit_distance("image.witdh", "image.width"), 1u);
+    EXPECT_EQ(edit_distance("icc.psi_pipe", "icc.psi_pipes"), 1u);
+    EXPECT_EQ(edit_distance("ca", "abc"), 3u);  // optimal string alignment: a swapped pair is not edited again
+}
+
+TEST(Nearest, NamesWithinTheLimitPrefixesAfterThem) {
+    using raplas::nearest_names;
+    using V = std::vector<std::string>;
+    EXPECT_EQ(raplas::near_limit(4), 1u);
+    EXPECT_EQ(raplas::near_limit(8), 2u);
+    EXPECT_EQ(raplas::near_limit(40), 3u);
+    EXPECT_EQ(nearest_names("papr", {"fpga", "paper"}), V{"paper"});
+    EXPECT_EQ(nearest_names("fgpa", {"fpga", "paper"}), V{"fpga"});
+    EXPECT_EQ(nearest_names("zzzz", {"fpga", "paper"}), V{});
+    EXPECT_EQ(nearest_names("papers", {"paper", "pacer"}), V{"paper"});  // the closest only
+    EXPECT_EQ(nearest_names("fov", {"fov_deg", "eye"}), V{"fov_deg"});     // a beginning
+    EXPECT_EQ(nearest_names("fo", {"fov_deg"}), V{});                     // too short to be one
+    EXPECT_EQ(nearest_names("fo", {"fov_deg", "f"}), V{"f"});
+    EXPECT_EQ(nearest_names("fov", {"fov_deg", "fox"}), V{"fox"});       // a typo before a beginning
+    EXPECT_EQ(nearest_names("ab", {"ac", "bb", "ax", "ay"}, 2), (V{"ac", "bb"}));
+    EXPECT_EQ(raplas::did_you_mean({}), "");
+    EXPECT_EQ(raplas::did_you_mean({"a"}), " (did you mean 'a'?)");
+    EXPECT_EQ(raplas::did_you_mean({"a", "b", "c"}), " (did you mean 'a', 'b' or 'c'?)");
+}
+
+TEST_F(ParamsTest, UnknownKeysNameTheNearestKnownOnes) {
+    ParamSet p = raplas::scene_params();
+    auto msg = [&](const std::string& a) { return error_of([&] { p.set(a); }); };
+    EXPECT_EQ(msg("image.witdh=8"), "--set: unknown scene key 'image.witdh' (did you mean 'image.width'?)");
+    EXPECT_EQ(msg("camera.fov=30"), "--set: unknown scene key 'camera.fov' (did you mean 'camera.fov_deg'?)");
+    // the last part against the known keys' last parts: the right key in another section
+    EXPECT_EQ(msg("camera.width=8"), "--set: unknown scene key 'camera.width' (did you mean 'image.width'?)");
+    EXPECT_EQ(msg("shadow_sise=4"), "--set: unknown scene key 'shadow_sise' (did you mean 'groups.shadow_size'?)");
+    // nothing near: the command that lists the keys
+    EXPECT_EQ(msg("image.colour=red"), "--set: unknown scene key 'image.colour' (raplas render --dump-scene lists the keys)");
+}
+
+TEST_F(ParamsTest, BareLeafNamesTheOneKeyEndingInIt) {
+    ParamSet p = make();
+    p.set("n=12");  // sec.n
+    EXPECT_EQ(p.get_int("sec.n"), 12);
+    EXPECT_EQ(p.origin("sec.n"), "--set sec.n");
+    p.set("x=0.5");
+    EXPECT_EQ(p.get_real("sec.x"), 0.5);
+    // a wrong value names the whole key
+    EXPECT_EQ(error_of([&] { p.set("n=9999"); }), "--set sec.n: test key 'sec.n' = 9999 is out of range [-5, 5000]");
+    // only bare words: a dotted key must be whole
+    EXPECT_THAT(error_of([&] { p.set("ec.n=1"); }), HasSubstr("unknown test key 'ec.n'"));
+    // several keys end in it: the error names them all
+    ParamSet q("test");
+    q.add_int("a.size", 1, 0, 9, "").add_int("b.size", 1, 0, 9, "").add_int("size_x", 1, 0, 9, "");
+    EXPECT_EQ(error_of([&] { q.set("size=3"); }), "--set: 'size' could be 'a.size' or 'b.size'; give the whole key");
+    EXPECT_EQ(q.get_int("a.size"), 1);
+    // files take whole keys only
+    const std::string f = write("leaf.toml", "n = 3\n");
+    EXPECT_EQ(error_of([&] { make().load_file(f); }), f + ":1: unknown test key 'n' (did you mean 'sec.n'?)");
+}
+
+TEST_F(ParamsTest, RouteAssignmentAcrossConfigAndSceneKeys) {
+    const ParamSet mp = raplas::model::machine_params();
+    const ParamSet sp = raplas::scene_params();
+    using R = std::pair<std::size_t, std::string>;
+    auto route = [&](const std::string& a) { return raplas::route_assignment(a, {&mp, &sp}); };
+    auto msg = [&](const std::string& a) { return error_of([&] { route(a); }); };
+    EXPECT_EQ(route("name=x"), R(0, "name=x"));  // in both: the first set's
+    EXPECT_EQ(route("image.width=8"), R(1, "image.width=8"));
+    EXPECT_EQ(route("width=8"), R(1, "image.width=8"));
+    EXPECT_EQ(route("rti_pipes=2"), R(0, "icc.rti_pipes=2"));
+    EXPECT_EQ(route("triangle_depth =7"), R(0, "fifo.triangle_depth=7"));
+    EXPECT_EQ(msg("triangles_per_sphere=1"),
+              "--set: 'triangles_per_sphere' could be 'workload.triangles_per_sphere' or "
+              "'spheres.triangles_per_sphere'; give the whole key");
+    // suggestions from both sets
+    EXPECT_EQ(msg("icc.psi_pipe=3"), "--set: unknown config or scene key 'icc.psi_pipe' (did you mean 'icc.psi_pipes'?)");
+    EXPECT_EQ(msg("image.hieght=3"), "--set: unknown config or scene key 'image.hieght' (did you mean 'image.height'?)");
+    EXPECT_EQ(msg("fifo.depth=4"),
+              "--set: unknown config or scene key 'fifo.depth' (raplas simulate --dump-config and raplas render "
+              "--dump-scene list the keys)");
+    EXPECT_THAT(msg("rti_pipes"), HasSubstr("expected key=value"));
+}
+
+TEST_F(ParamsTest, RealsPrintAsWritten) {
+    ParamSet p("real");
+    p.add_real("tiny", 1e-4, 1e-6, 1e6, "").add_real("big", 2.5e9, 0.0, 1e12, "").add_real("clock", 400.0, 1.0, 1e5, "");
+    const std::string text = p.dump();
+    EXPECT_THAT(text, HasSubstr("tiny = 0.0001\n"));
+    EXPECT_THAT(text, HasSubstr("big = 2.5e9\n"));
+    EXPECT_THAT(text, HasSubstr("clock = 400.0\n"));
+    EXPECT_EQ(error_of([&] { p.set("tiny=0"); }), "--set tiny: real key 'tiny' = 0.0 is out of range [1e-6, 1e6]");
+    EXPECT_EQ(error_of([&] { p.set("clock=1e9"); }), "--set clock: real key 'clock' = 1e9 is out of range [1.0, 100000.0]");
+    // every default of the shipped key sets: no '+' or leading zero in an exponent, and it reads back
+    for (ParamSet set : {raplas::model::machine_params(), raplas::scene_params()}) {
+        const std::string dump = set.dump();
+        EXPECT_EQ(dump.find("e+"), std::string::npos) << dump;
+        EXPECT_EQ(dump.find("e-0"), std::string::npos) << dump;
+        ParamSet back = set;
+        back.load_text(dump, "dump");
+        EXPECT_EQ(back.dump(), dump);
+    }
 }
 
 TEST_F(ParamsTest, BadSetOverridesNameTheKey) {

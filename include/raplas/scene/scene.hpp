@@ -46,6 +46,12 @@ struct Scene {
 // Every scene key with its default, range and description.
 ParamSet scene_params();
 
+// The scene file `--scene NAME` means: NAME itself when it is a file, else
+// scenes/NAME[.toml] in the working directory, then in the installed data
+// folder or the source tree (raplas/util/data_dir.hpp). InputError when none
+// is, listing the shipped scenes and the nearest names.
+std::string find_scene_file(const std::string& name);
+
 // Where relative mesh paths are looked up after the scene file's directory:
 // the working directory, $RAPLAS_SCENE_PATH (colon-separated),
 // ./../shared/scenes, <scene dir>/../../shared/scenes and the source tree's
@@ -54,7 +60,7 @@ std::vector<std::string> scene_search_path(const std::string& scene_dir);
 std::string resolve_mesh_path(const std::string& mesh, const std::string& scene_dir);
 
 struct SceneRequest {
-    std::string scene_file;             // TOML scene file, or empty
+    std::string scene_file;             // TOML scene file or a shipped scene's name, or empty
     std::string mesh_file;              // --mesh OBJ, or empty
     std::vector<std::string> overrides;  // --set key=value on scene keys
 };

@@ -34,6 +34,13 @@ struct InputError : std::runtime_error {
     }
 };
 
+// A command line that cannot be right whatever the files hold: an option's
+// value, or options that do not go together. The command line adds where to
+// read the subcommand's options ("see raplas simulate --help").
+struct UsageError : InputError {
+    using InputError::InputError;
+};
+
 constexpr int kExitInputError = 2;
 constexpr int kExitInternalError = 1;
 

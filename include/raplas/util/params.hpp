@@ -1,14 +1,16 @@
 // Declared, validated parameters: each key is declared once with its type,
 // default, range and description; files (TOML) and `--set key=value`
 // overrides are checked against the declarations (unknown key = error naming
-// the file and line, or the key); dump() prints the resolved set as TOML that
-// is valid input again. Used by scene files and machine configs alike.
+// the file and line, or the key, and the nearest known keys); dump() prints
+// the resolved set as TOML that is valid input again. Used by scene files and
+// machine configs alike.
 #pragma once
 
 #include <cstdint>
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "raplas/core/vec.hpp"
@@ -20,6 +22,12 @@ public:
     enum class Type { Int, Real, Bool, String, Vec3 };
 
     explicit ParamSet(std::string what) : what_(std::move(what)) {}
+    // The command that lists the keys ("raplas simulate --dump-config"): an
+    // unknown key with no known key near it points there.
+    ParamSet& listed_by(std::string command) {
+        listed_by_ = std::move(command);
+        return *this;
+    }
 
     ParamSet& add_int(const std::string& key, std::int64_t def, std::int64_t min, std::int64_t max,
                       const std::string& desc);
@@ -33,8 +41,10 @@ public:
     // Reads a TOML file; throws InputError "FILE:LINE: ..." on any problem.
     void load_file(const std::string& path);
     void load_text(const std::string& text, const std::string& origin);
-    // "key=value" (value in TOML syntax; a bare word is taken as a string);
-    // errors name `option` ("--set KEY: ...").
+    // "key=value" (value in TOML syntax; a bare word is taken as a string).
+    // A bare leaf names the one key that ends in it: "width=8" is
+    // "image.width=8" (see route_assignment). Files take whole keys only.
+    // Errors name `option` ("--set KEY: ...").
     void set(const std::string& assignment, const std::string& option = "--set");
 
     std::int64_t get_int(const std::string& key) const;
@@ -55,6 +65,10 @@ public:
     std::string value_text(const std::string& key) const;
     std::vector<std::string> keys() const;
     const std::string& description(const std::string& key) const;
+    const std::string& what() const { return what_; }
+    const std::string& listed_by() const { return listed_by_; }
+    // The keys ending in ".LEAF", in declaration order.
+    std::vector<std::string> keys_with_leaf(const std::string& leaf) const;
 
     struct Value {
         bool present = false;
@@ -81,9 +95,27 @@ private:
     void assign(const std::string& key, const void* node, const std::string& where);
 
     std::string what_;
+    std::string listed_by_;
     std::string file_dir_;
     std::map<std::string, Decl> decls_;
     std::vector<std::string> order_;
 };
+
+// Where `--set KEY=VALUE` goes when a command takes the keys of several sets
+// (simulate and sweep: the machine config's, then the scene's): the first set
+// that declares KEY; else, when KEY is a bare leaf (no '.'), the one key of
+// all the sets that ends in ".KEY". Returns the set's index and the
+// assignment with the whole key. Throws InputError when there is no '=', when
+// no key matches (naming the nearest known keys, or the commands that list
+// them) and when several keys end in ".KEY" (naming them); messages start with
+// `option`.
+std::pair<std::size_t, std::string> route_assignment(const std::string& assignment,
+                                                     const std::vector<const ParamSet*>& sets,
+                                                     const std::string& option = "--set");
+
+// "unknown config or scene key 'KEY' (did you mean 'K'?)": the nearest keys of
+// the sets, by the whole key or by its last part ('camera.width' ->
+// 'image.width'); with none near, the commands that list the keys.
+std::string unknown_key_message(const std::string& key, const std::vector<const ParamSet*>& sets);
 
 }  // namespace raplas
