@@ -500,7 +500,6 @@ int reference_tables(const CsvTable& t, const SweepArgs& a, const References& re
 // ---- child processes -----------------------------------------------------------
 
 struct Child {
-    pid_t pid = -1;
     bool trace = false;
     std::size_t index = 0;
     std::vector<std::string> argv;
@@ -563,13 +562,11 @@ int run_sweep(const Sweep& sw, const SweepArgs& a) {
     const std::size_t already = pr.done;
     const unsigned jobs = a.jobs ? a.jobs : core_count();
 
-    sigset_t chld, old_mask;
-    sigemptyset(&chld);
-    sigaddset(&chld, SIGCHLD);
-    ::sigprocmask(SIG_BLOCK, &chld, &old_mask);
-
+    std::optional<ProcessPool> pool;
+    pool.emplace(jobs);
     const std::string exe = self_exe();
-    std::vector<Child> running;
+    std::map<std::size_t, Child> running;  // by pool tag
+    std::size_t next_tag = 0;
     bool input_failure = false, internal_failure = false;
     auto fail = [&](bool input, const std::string& what, const std::vector<std::string>& argv, const std::string& why,
                     const std::string& log) {
@@ -592,7 +589,7 @@ int run_sweep(const Sweep& sw, const SweepArgs& a) {
 
     pr.draw();
     for (;;) {
-        while (running.size() < jobs) {
+        while (!pool->full()) {
             const auto t = next_task();
             if (!t) break;
             Child c;
@@ -607,28 +604,22 @@ int run_sweep(const Sweep& sw, const SweepArgs& a) {
                 c.log = sw.point_log(c.index);
                 point[c.index] = St::running;
             }
-            c.pid = spawn_self(c.argv, c.log);
-            running.push_back(std::move(c));
+            pool->start(next_tag, c.argv, c.log);
+            running.emplace(next_tag++, std::move(c));
         }
         if (running.empty()) break;
 
-        int status = 0;
-        const pid_t pid = ::waitpid(-1, &status, WNOHANG);
-        if (pid == 0 || (pid < 0 && errno == EINTR)) {
-            timespec ts{0, 500000000};
-            ::sigtimedwait(&chld, nullptr, &ts);
+        const auto ended = pool->wait(0.5);
+        if (!ended) {
             pr.draw();
             continue;
         }
-        if (pid < 0) throw std::runtime_error(std::string("waitpid: ") + std::strerror(errno));
-        auto it = std::find_if(running.begin(), running.end(), [&](const Child& c) { return c.pid == pid; });
-        if (it == running.end()) continue;
-        Child c = std::move(*it);
-        running.erase(it);
+        Child c = std::move(running.at(ended->tag));
+        running.erase(ended->tag);
+        const int status = ended->status;
         const bool ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
         const bool input = WIFEXITED(status) && WEXITSTATUS(status) == kExitInputError;
-        const std::string why = WIFEXITED(status) ? "exit " + std::to_string(WEXITSTATUS(status))
-                                                  : "killed by signal " + std::to_string(WTERMSIG(status));
+        const std::string why = exit_text(status);
         if (c.trace) {
             if (ok && is_file(sw.trace_file(c.index))) {
                 trace[c.index] = St::done;
@@ -665,7 +656,7 @@ int run_sweep(const Sweep& sw, const SweepArgs& a) {
         }
         pr.draw();
     }
-    ::sigprocmask(SIG_SETMASK, &old_mask, nullptr);
+    pool.reset();
     const CsvTable table = write_out(out, results, sw.layout, dv);
     pr.draw();
     pr.line.finish();

@@ -4,6 +4,7 @@
 #include <sched.h>
 #include <signal.h>
 #include <sys/prctl.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -96,6 +97,42 @@ std::string last_line(const std::string& path) {
     while (std::getline(in, line))
         if (line.find_first_not_of(" \t\r") != std::string::npos) last = line;
     return last;
+}
+
+std::string exit_text(int status) {
+    return WIFEXITED(status) ? "exit " + std::to_string(WEXITSTATUS(status))
+                             : "killed by signal " + std::to_string(WTERMSIG(status));
+}
+
+ProcessPool::ProcessPool(unsigned jobs) : jobs_(std::max(1u, jobs)) {
+    sigemptyset(&chld_);
+    sigaddset(&chld_, SIGCHLD);
+    ::sigprocmask(SIG_BLOCK, &chld_, &old_mask_);
+}
+
+ProcessPool::~ProcessPool() { ::sigprocmask(SIG_SETMASK, &old_mask_, nullptr); }
+
+void ProcessPool::start(std::size_t tag, const std::vector<std::string>& args, const std::string& log) {
+    children_.emplace_back(spawn_self(args, log), tag);
+}
+
+std::optional<ProcessPool::Ended> ProcessPool::wait(double timeout_s) {
+    for (;;) {
+        int status = 0;
+        const pid_t pid = ::waitpid(-1, &status, WNOHANG);
+        if (pid < 0 && errno != EINTR) throw std::runtime_error(std::string("waitpid: ") + std::strerror(errno));
+        if (pid > 0) {
+            const auto it = std::find_if(children_.begin(), children_.end(), [&](const auto& c) { return c.first == pid; });
+            if (it == children_.end()) continue;  // not one of ours
+            const Ended e{it->second, status};
+            children_.erase(it);
+            return e;
+        }
+        if (pid == 0 || errno == EINTR) {
+            timespec ts{time_t(timeout_s), long((timeout_s - double(time_t(timeout_s))) * 1e9)};
+            if (::sigtimedwait(&chld_, nullptr, &ts) < 0) return std::nullopt;  // timeout (or a signal)
+        }
+    }
 }
 
 }  // namespace raplas

@@ -5,6 +5,10 @@
 
 #include <sys/types.h>
 
+#include <signal.h>
+
+#include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,5 +30,35 @@ std::string format_duration(double seconds);
 pid_t spawn_self(const std::vector<std::string>& args, const std::string& log);
 // The last non-blank line of a text file ("" if none).
 std::string last_line(const std::string& path);
+// A child's wait status as "exit N" or "killed by signal N".
+std::string exit_text(int status);
+
+// Children `raplas ARGS` (spawn_self), at most `jobs` at a time. SIGCHLD is
+// blocked while the pool lives, so that wait() sleeps until a child ends or
+// the timeout passes (to redraw a progress line); the destructor restores the
+// signal mask. Children that are still running die with the process.
+class ProcessPool {
+public:
+    explicit ProcessPool(unsigned jobs);
+    ~ProcessPool();
+    ProcessPool(const ProcessPool&) = delete;
+    ProcessPool& operator=(const ProcessPool&) = delete;
+
+    bool full() const { return children_.size() >= jobs_; }
+    std::size_t running() const { return children_.size(); }
+    // Starts a child; `tag` names it when it ends.
+    void start(std::size_t tag, const std::vector<std::string>& args, const std::string& log);
+    struct Ended {
+        std::size_t tag;
+        int status;  // as waitpid gives it
+    };
+    // A child that ended, or nothing when none did within `timeout_s`.
+    std::optional<Ended> wait(double timeout_s);
+
+private:
+    unsigned jobs_;
+    sigset_t chld_, old_mask_;
+    std::vector<std::pair<pid_t, std::size_t>> children_;
+};
 
 }  // namespace raplas
