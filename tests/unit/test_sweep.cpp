@@ -300,6 +300,10 @@ TEST_F(Sweep, VaryIsACrossProductWhosePointsShareTracesAndMatchSimulate) {
             }
     EXPECT_EQ(workloads.size(), 2u);
     EXPECT_EQ(configs.size(), 4u);  // rti_pipes x iccs
+    // --merge rebuilds the same table from the work dir alone (the varied keys come from sweep.json).
+    const RunResult m = run({"sweep", "--merge", "--work-dir", "v.csv.d", "--out", "merged.csv", "-q"});
+    ASSERT_EQ(m.code, 0) << m.err;
+    EXPECT_EQ(slurp(dir / "merged.csv"), text);
 }
 
 TEST_F(Sweep, VaryRefusesWhatCannotBeSwept) {
