@@ -136,11 +136,12 @@ int cmd_simulate(const SimulateArgs& a) {
     }
     const Provenance provenance =
         make_provenance(named, mp, trace, cfg.icc.decoder.select == model::TriangleSelect::any);
+    const WorkloadFacts facts = workload_facts(trace, result);
     SimReportInput in;
     in.provenance = &provenance;
     in.result = &result;
     in.config = &cfg;
-    in.trace = &trace;
+    in.workload = &facts;
     in.config_name = config_name;
     in.scene_name = scene_name;
     in.frontend_wall_s = frontend_s;
