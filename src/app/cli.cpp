@@ -2,6 +2,7 @@
 
 #include "commands.hpp"
 #include "memory_checks.hpp"
+#include "shard.hpp"
 
 #include <CLI/CLI.hpp>
 #include <chrono>
@@ -165,6 +166,11 @@ int run_cli(int argc, char** argv) {
     auto* simulate = app.add_subcommand("simulate", "run the front end and the cycle-accurate SystemC model");
     add_simulate_options(simulate, sim);
 
+    MergeArgs merge_args;
+    auto* merge = app.add_subcommand("merge", "add up the partial results of simulate --shard I/N into the whole run's "
+                                              "JSON and CSV (docs/SHARDING.md)");
+    add_merge_options(merge, merge_args);
+
     SweepArgs sweep_args;
     sweep_args.command_line = "raplas";
     for (int i = 1; i < argc; ++i) sweep_args.command_line += " " + shell_quote(argv[i]);
@@ -200,6 +206,7 @@ int run_cli(int argc, char** argv) {
         if (trace->parsed()) return cmd_trace(trace_so, trace_out, trace_json, trace_select);
         if (simulate->parsed()) return cmd_simulate(sim);
         if (sweep->parsed()) return cmd_sweep(sweep_args);
+        if (merge->parsed()) return cmd_merge(merge_args);
     } catch (const InputError& e) {
         std::cerr << "raplas: error: " << e.what() << "\n";
         return kExitInputError;
