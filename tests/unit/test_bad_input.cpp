@@ -131,6 +131,9 @@ protected:
                                        {});
         ASSERT_EQ(b.code, 0) << b.err;
         both_trace = slurp(d / "both.trace");
+        const Outcome o = run_in_child(d, {"trace", "-q", "-o", "other.trace", "--set", "image.width=16", "--set",
+                                           "image.height=8", "--set", "builtin_detail=0"}, {});
+        ASSERT_EQ(o.code, 0) << o.err;
     }
     void TearDown() override {
         std::error_code ec;
@@ -149,7 +152,31 @@ protected:
             return;
         }
         std::string data;
-        if (auto n = t["garbage"].value<std::int64_t>()) {
+        if (auto shard = t["result"].value<std::string>()) {
+            // simulate's --json on the valid trace (workload = "other": another
+            // scene's): the whole run's, or shard I/N's partial result.
+            const fs::path d = tmp / "trace";
+            const std::string trace = t["workload"].value_or(std::string()) == "other" ? "other.trace" : "valid.trace";
+            std::vector<std::string> args{"simulate", "-q", "--trace", (d / trace).string(), "--json", p.string()};
+            if (*shard != "whole") args.insert(args.end(), {"--shard", *shard});
+            if (const toml::array* more = t["args"].as_array())
+                for (const auto& x : *more) args.push_back(x.value_or(std::string()));
+            const Outcome r = run_in_child(d, args, {});
+            ASSERT_EQ(r.code, 0) << r.err;
+            data = slurp(p);
+            const std::string edit = t["edit"].value_or(std::string());
+            if (edit == "version") {  // written by another raplas
+                const std::string key = "\"raplas_version\": \"";
+                const std::size_t at = data.find(key);
+                ASSERT_NE(at, std::string::npos);
+                const std::size_t end = data.find('"', at + key.size());
+                data.replace(at + key.size(), end - at - key.size(), "0.0.1");
+            } else if (edit == "truncated") {
+                data.resize(data.size() / 2);
+            } else {
+                ASSERT_EQ(edit, "") << "unknown edit";
+            }
+        } else if (auto n = t["garbage"].value<std::int64_t>()) {
             std::mt19937 rng(7);
             for (std::int64_t i = 0; i < *n; ++i) data.push_back(char(rng() & 0xff));
             data.push_back('\0');
