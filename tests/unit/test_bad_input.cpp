@@ -1,6 +1,6 @@
 // The bad-input table (tests/bad_input/cases.toml, shown in docs/BAD_INPUT.md):
-// every case runs the command line in a forked child of this process (the
-// same code as the executable, without the cost of loading it ~100 times) in
+// every case runs the command line in a forked child of this process
+// (run_in_child.hpp: without the cost of loading the executable ~150 times) in
 // a fresh directory holding the case's files; the test checks the exit code,
 // the whole of stderr and that a refused run left no file behind.
 // tests/bad_input.py generates the page from the same table and checks it.
@@ -23,62 +23,19 @@
 #include <vector>
 
 #include "raplas/app/cli.hpp"
+#include "run_in_child.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
+using raplas_test::Outcome;
+using raplas_test::run_in_child;
 
 std::string slurp(const fs::path& p) {
     std::ifstream in(p, std::ios::binary);
     std::stringstream ss;
     ss << in.rdbuf();
     return ss.str();
-}
-
-struct Outcome {
-    int code = -1;
-    std::string err;
-};
-
-// `raplas ARGS` in a child process with `dir` as working directory.
-Outcome run_in_child(const fs::path& dir, const std::vector<std::string>& args,
-                     const std::vector<std::pair<std::string, std::string>>& env) {
-    const fs::path out = dir.parent_path() / (dir.filename().string() + ".stdout");
-    const fs::path err = dir.parent_path() / (dir.filename().string() + ".stderr");
-    std::cout.flush();
-    std::cerr.flush();
-    std::fflush(nullptr);
-    const pid_t pid = ::fork();
-    if (pid == 0) {
-        const int o = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        if (o < 0 || e < 0 || ::dup2(o, 1) < 0 || ::dup2(e, 2) < 0 || ::chdir(dir.c_str()) != 0) ::_exit(125);
-        ::unsetenv("RAPLAS_SCENE_PATH");
-        ::unsetenv("RAPLAS_MAX_MEMORY");
-        for (const auto& [k, v] : env) ::setenv(k.c_str(), v.c_str(), 1);
-        std::vector<std::string> storage = {"raplas"};
-        storage.insert(storage.end(), args.begin(), args.end());
-        std::vector<char*> argv;
-        for (auto& s : storage) argv.push_back(s.data());
-        argv.push_back(nullptr);
-        const int code = raplas::run_cli(int(storage.size()), argv.data());
-        std::cout.flush();
-        std::cerr.flush();
-        std::fflush(nullptr);
-        // Ends the child without static destructors or a leak check of the
-        // parent's state. The system call, not _exit(): AddressSanitizer
-        // warns at any noreturn call after a SystemC simulation (FUZZING.md).
-        ::syscall(SYS_exit_group, code);
-        std::abort();
-    }
-    Outcome r;
-    int status = 0;
-    if (pid < 0 || ::waitpid(pid, &status, 0) != pid) return r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    r.err = slurp(err);
-    fs::remove(out);
-    fs::remove(err);
-    return r;
 }
 
 std::vector<std::string> expected_lines(const toml::table& c) {
