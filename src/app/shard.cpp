@@ -632,8 +632,9 @@ int emit_shard_jobs(const SimulateArgs& a, const ParamSet& mp, const model::SimC
         make_trace.insert(make_trace.end(), {"--out", trace, "-q"});
     }
 
-    // The work dir serves one sharded run: its spec names what the shards compute.
-    const json spec = {{"raplas_version", RAPLAS_VERSION}, {"shards", a.shards}, {"trace", make_trace}, {"simulate", sim}};
+    // The work dir serves one run: its spec names the trace and what the
+    // shards simulate (any shard count: each count's files have their own names).
+    const json spec = {{"raplas_version", RAPLAS_VERSION}, {"trace", make_trace}, {"simulate", sim}};
     const std::string spec_path = wd + "/shards.json";
     if (is_file(spec_path)) {
         json old;
@@ -642,8 +643,8 @@ int emit_shard_jobs(const SimulateArgs& a, const ParamSet& mp, const model::SimC
         } catch (const json::parse_error&) {
         }
         if (old != spec)
-            throw InputError(spec_path + ": the work dir holds the jobs of another sharded run; remove it or give "
-                                         "another --work-dir");
+            throw InputError(spec_path + ": the work dir holds the jobs of another run (another workload, config or "
+                                         "raplas); remove it or give another --work-dir");
     } else {
         write_file_atomically(spec_path, spec.dump(2) + "\n");
     }

@@ -265,7 +265,14 @@ TEST_F(Shard, EmittedJobsRunLineByLineAsASlurmArrayAndMergeToTheWholeRun) {
     const RunResult other = run(plus(plus({"simulate"}, kScene), {"--iccs", "4", "--shards", "3", "--emit-jobs", "jobs",
                                                                   "--json", "out.json", "-q"}));
     EXPECT_EQ(other.code, 2);
-    EXPECT_THAT(other.err, HasSubstr("shards.json: the work dir holds the jobs of another sharded run"));
+    EXPECT_THAT(other.err, HasSubstr("shards.json: the work dir holds the jobs of another run"));
+    EXPECT_EQ(lines_of(other.err).size(), 1u);
+    // Another shard count of the same run shares the work dir and its trace.
+    EXPECT_EQ(run(plus(plus(plus({"simulate"}, kScene), config),
+                       {"--shards", "2", "--emit-jobs", "jobs2", "--json", "out.json", "-q"}))
+                  .code,
+              0);
+    EXPECT_THAT(slurp(dir / "jobs2"), HasSubstr("/out.json.d/shard-1-of-2.json"));
 }
 
 TEST_F(Shard, EmittedJobsOfATraceHaveNoTracePhase) {
