@@ -180,7 +180,7 @@ int run_cli(int argc, char** argv) {
     // --max-memory: the memory budget of every command (RAPLAS_MAX_MEMORY,
     // so that the processes of a sweep inherit it).
     std::string max_memory;
-    for (auto* cmd : {render, trace, simulate, sweep})
+    for (auto* cmd : {render, trace, simulate, sweep, merge})
         cmd->add_option("--max-memory", max_memory,
                         "refuse runs estimated to need more memory than this, e.g. 4G, or off "
                         "(default: what the machine has available; docs/MEMORY.md)");

@@ -13,6 +13,7 @@
 #include "raplas/util/atomic_file.hpp"
 #include "raplas/util/error.hpp"
 #include "raplas/util/files.hpp"
+#include "raplas/util/input_file.hpp"
 
 #ifndef RAPLAS_VERSION
 #define RAPLAS_VERSION "unknown"
@@ -194,7 +195,8 @@ struct Part {
 Part read_part(const std::string& file) {
     Part p;
     p.doc.file = file;
-    const std::string text = read_file(file);
+    // Parsed, a document takes several times its text (docs/MEMORY.md).
+    const std::string text = read_text_input(file, {"partial result", "a", "JSON text and its parse", 8.0});
     const std::string not_partial = file + ": not a partial result of raplas simulate --shard";
     try {
         p.doc.j = json::parse(text);
