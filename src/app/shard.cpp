@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <map>
+#include <optional>
 
 #include "raplas/app/processes.hpp"
 #include "raplas/util/atomic_file.hpp"
@@ -281,12 +281,13 @@ std::vector<const Part*> check_parts(const std::vector<Part>& parts) {
 
 void check_out_path(const std::string& option, const std::string& out, const std::vector<std::string>& parts) {
     if (out.empty()) return;
-    if (fs::is_directory(out)) throw InputError(option + " " + out + ": is a directory");
-    const fs::path parent = fs::absolute(out).parent_path();
-    if (!fs::is_directory(parent)) throw InputError(option + " " + out + ": directory " + parent.string() + " does not exist");
+    std::error_code ec;
+    if (fs::is_directory(out, ec)) throw InputError(option + " " + out + ": is a directory");
+    const fs::path parent = fs::absolute(out, ec).parent_path();
+    if (!fs::is_directory(parent, ec))
+        throw InputError(option + " " + out + ": directory " + parent.string() + " does not exist");
     for (const auto& p : parts)
-        if (fs::exists(p) && fs::exists(out) && fs::equivalent(p, out))
-            throw InputError(option + " " + out + ": is one of the partial results");
+        if (fs::equivalent(p, out, ec)) throw InputError(option + " " + out + ": is one of the partial results");
 }
 
 }  // namespace
