@@ -227,7 +227,7 @@ void write_payload(Writer& w, const Trace& t, bool as_workload = false, bool pai
         for (std::uint32_t v = 0; v < g.n; ++v)
             for (std::uint32_t h = 0; h < g.n; ++h) w.put_vec(g.dir(h, v));
         w.put(g.counts.plane_tests); w.put(g.counts.sphere_hits); w.put(g.counts.rt_tests);
-        w.put(pairless ? g.counts.pairless : std::uint64_t(0));
+        w.put(as_workload && !pairless ? std::uint64_t(0) : g.counts.pairless);
         w.put(std::uint64_t(g.sphere_hits.size()));
         const std::uint32_t mb = mask_bytes(g.n);
         for (const auto& s : g.sphere_hits) { w.put(s.sphere); w.put_mask(s.rows, mb); w.put_mask(s.cols, mb); }
