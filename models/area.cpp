@@ -11,14 +11,19 @@ namespace raplas::model {
 
 const char* area_model_name(AreaModel m) { return m == AreaModel::pe_units ? "pe_units" : "blocks"; }
 
-AreaWorkload area_workload(const Trace& t, const SimConfig& cfg) {
+AreaWorkload area_workload(std::uint64_t spheres, std::uint64_t triangles, std::uint32_t group_size,
+                           std::uint32_t shadow_group_size, const SimConfig& cfg) {
     AreaWorkload w;
-    w.spheres = t.spheres.size();
-    w.triangles = t.triangles.size();
-    const std::uint32_t n = cfg.group_size ? cfg.group_size : t.group_size;
-    const std::uint32_t ns = cfg.shadow_group_size ? cfg.shadow_group_size : t.shadow_group_size;
+    w.spheres = spheres;
+    w.triangles = triangles;
+    const std::uint32_t n = cfg.group_size ? cfg.group_size : group_size;
+    const std::uint32_t ns = cfg.shadow_group_size ? cfg.shadow_group_size : shadow_group_size;
     w.group_size = std::max(n, ns);
     return w;
+}
+
+AreaWorkload area_workload(const Trace& t, const SimConfig& cfg) {
+    return area_workload(t.spheres.size(), t.triangles.size(), t.group_size, t.shadow_group_size, cfg);
 }
 
 namespace {

@@ -59,6 +59,9 @@ struct AreaWorkload {
 // the larger of the primary and the shadow group size, each
 // workload.group_size / workload.shadow_group_size when set, else the trace's.
 AreaWorkload area_workload(const Trace& t, const SimConfig& cfg);
+// The same from the counts alone (a result merged from shards holds no trace).
+AreaWorkload area_workload(std::uint64_t spheres, std::uint64_t triangles, std::uint32_t group_size,
+                           std::uint32_t shadow_group_size, const SimConfig& cfg);
 
 // The area of a machine, block by block. Per-ICC figures are of one ICC;
 // blocks-model figures are zero under pe_units.

@@ -185,6 +185,9 @@ SimResult simulate_system(const Trace& t, const SimConfig& cfg, MemoryStats& sta
         streaming_bounds(t, cfg, r, stats);
         return r;
     }
+    if (opt.shards > 1)
+        throw InputError(std::string("memory.system = ") + memory_system_name(cfg.memory.system) +
+                         " is computed from the whole workload: it has no shards");
     if (!opt.vcd_path.empty())
         throw InputError(std::string("--vcd: memory.system = ") + memory_system_name(cfg.memory.system) +
                          " is computed in closed form, it has no waveform");

@@ -106,8 +106,13 @@ public:
     // Fault injection (sim.fault = wrong_rti): one wrong ray-triangle answer
     // in this ICC, whichever buffer's group meets it first.
     void inject_wrong_rti() {
-        auto fired = std::make_shared<bool>(false);
-        for (auto& u : units_) u = with_wrong_rti(std::move(u), fired);
+        wrong_rti_fired_ = std::make_shared<bool>(false);
+        for (auto& u : units_) u = with_wrong_rti(std::move(u), wrong_rti_fired_);
+    }
+    // The injected fault counts as fired already (it fired in a pass another
+    // run simulates).
+    void disarm_wrong_rti() {
+        if (wrong_rti_fired_) *wrong_rti_fired_ = true;
     }
     const TraceGroup* group() const { return group_; }
 
@@ -202,6 +207,7 @@ public:
 private:
     Params params_;
     std::unique_ptr<GroupUnit> units_[2];  // Ray Memory (and plane tests) of the two buffers
+    std::shared_ptr<bool> wrong_rti_fired_;  // sim.fault = wrong_rti: shared by both buffers' units
     const Functional& functional_;
     const TraceGroup* group_ = nullptr;
     const TraceGroup* loaded_[2] = {nullptr, nullptr};

@@ -48,6 +48,10 @@ Top::Top(sc_core::sc_module_name n, const SimConfig& cfg, const Trace& trace, co
     }
     sphere_memory.load(std::move(srec));
     triangle_memory.load(trace.triangles, std::move(sphere_of));
+    if (opt_.shards == 0 || opt_.shard >= opt_.shards) throw InputError("shard index out of range");
+    if (opt_.shards > 1 && (cfg.overlap_passes || cfg.estimate == Estimate::sample_passes || !opt_.vcd_path.empty()))
+        throw InputError("a shard of the passes needs independent passes: no host.overlap_passes, sim.estimate = "
+                         "sample_passes or waveform");
     if (cfg.estimate == Estimate::fifo_bound && (!opt_.vcd_path.empty() || opt_.on_cycle))
         throw InputError("sim.estimate = fifo_bound computes the cycles in closed form: no waveform (--vcd) or "
                          "per-cycle hook; use sim.estimate = exact");
@@ -148,7 +152,7 @@ std::string Top::stuck_report(std::uint64_t cycle, const std::vector<IccView>& v
     StallPicture p;
     p.watchdog_cycles = cfg_.watchdog_cycles;
     p.cycle = cycle;
-    p.pass = result_.pass_cycles.size() + 1;
+    p.pass = current_pass_ + 1;
     p.sphere_link = {sphere_link.position(), sphere_link.end()};
     p.triangle_link = {triangle_link.position(), triangle_link.end()};
     if (triangle_link.has_record()) p.triangle_sphere = triangle_memory.sphere_of(std::uint32_t(triangle_link.position()));
@@ -285,6 +289,11 @@ void Top::preload(const Host::Pass& p, std::uint8_t buf) {
 }
 
 std::vector<std::uint32_t> Top::choose_passes(const std::vector<Host::Pass>& passes) const {
+    if (opt_.shards > 1) {
+        std::vector<std::uint32_t> mine;
+        for (std::uint32_t i = opt_.shard; i < passes.size(); i += opt_.shards) mine.push_back(i);
+        return mine;
+    }
     std::vector<std::uint32_t> all(passes.size());
     for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
     if (cfg_.estimate != Estimate::sample_passes) return all;
@@ -310,6 +319,35 @@ std::vector<std::uint32_t> Top::choose_passes(const std::vector<Host::Pass>& pas
         chosen.push_back(shadow[std::min(ns - 1, lo + std::min(hi - lo - 1, std::size_t(u * double(hi - lo))))]);
     }
     return chosen;
+}
+
+void Top::place_wrong_rti(const std::vector<Host::Pass>& passes, const std::vector<std::uint32_t>& chosen) {
+    // The fault turns the first miss of the faulty ICC's RTI into a hit. The
+    // pass it fires in is the first whose group on that ICC has a (ray,
+    // triangle) pair that misses: the pairs are every triangle of a kept
+    // sphere with the rays of its row and column masks, as the Ray Data
+    // Fetcher issues them (which of them misses first is the pass's own
+    // business, simulated by whoever simulates that pass).
+    const std::uint32_t k = cfg_.fault_icc;
+    auto has_miss = [&](const TraceGroup& g) {
+        auto unit = functional_.make_unit();
+        unit->load(g);
+        for (const SphereHitRec& rec : unit->sphere_hits())
+            for (std::uint32_t tri = trace_.first_tri[rec.sphere]; tri < trace_.first_tri[rec.sphere] + trace_.tri_count[rec.sphere]; ++tri)
+                for (std::uint64_t rm = rec.rows; rm; rm &= rm - 1)
+                    for (std::uint64_t cm = rec.cols; cm; cm &= cm - 1) {
+                        double t;
+                        const std::uint32_t ray = std::uint32_t(__builtin_ctzll(rm)) * g.n + std::uint32_t(__builtin_ctzll(cm));
+                        if (!unit->rti(ray, tri, t)) return true;
+                    }
+        return false;
+    };
+    for (std::uint32_t i = 0; i < passes.size(); ++i) {
+        const std::uint32_t gi = passes[i].begin + k;
+        if (gi >= passes[i].end || !has_miss(trace_.groups[gi])) continue;
+        if (!std::binary_search(chosen.begin(), chosen.end(), i)) iccs[k].disarm_wrong_rti();
+        return;
+    }
 }
 
 void Top::extrapolate(const std::vector<Host::Pass>& passes) {
@@ -354,6 +392,7 @@ void Top::run() {
 void Top::run_passes(const std::vector<Host::Pass>& passes) {
     const bool bound = cfg_.estimate == Estimate::fifo_bound;
     const std::vector<std::uint32_t> chosen = choose_passes(passes);
+    if (cfg_.fault == Fault::wrong_rti && opt_.shards > 1) place_wrong_rti(passes, chosen);
     std::uint64_t total = 0;
     // Pass i uses buffer i % 2. With overlapped passes a pass's results are
     // final once the next pass has ended (it waits for them to drain), or at
@@ -363,6 +402,7 @@ void Top::run_passes(const std::vector<Host::Pass>& passes) {
     for (std::size_t ci = 0; ci < chosen.size(); ++ci) {
         const std::size_t i = chosen[ci];
         const std::uint8_t buf = std::uint8_t(i % 2);
+        current_pass_ = i;
         std::uint64_t c;
         if (bound) {  // closed form: nothing is simulated or checked
             c = run_pass_bound(passes[i]);
@@ -390,7 +430,7 @@ void Top::run_passes(const std::vector<Host::Pass>& passes) {
     if (cfg_.pass_overhead_cycles) wait(period_ * double(cfg_.pass_overhead_cycles * chosen.size()));
     result_.total_cycles = total;
     if (bound) result_.estimated = result_.lower_bound = true;
-    if (chosen.size() < passes.size()) extrapolate(passes);
+    if (cfg_.estimate == Estimate::sample_passes && chosen.size() < passes.size()) extrapolate(passes);
 }
 
 void check_trace_reading(const Trace& t, const SimConfig& cfg, const std::string& name) {

@@ -64,6 +64,13 @@ struct SimResult {
 
 struct SimOptions {
     std::string vcd_path;  // empty: no waveform
+    // Simulate only the passes of shard `shard` of `shards`: pass p belongs
+    // to shard p mod shards (every shards-th pass, so each shard gets its
+    // share of primary and shadow passes). Passes are independent (each
+    // starts from empty FIFOs and record 0), so the shards' results add up
+    // to the whole run's; not with host.overlap_passes, sim.estimate =
+    // sample_passes or a waveform.
+    std::uint32_t shard = 0, shards = 1;
     // Called after every pass: (passes done, passes total, cycles so far).
     std::function<void(std::size_t, std::size_t, std::uint64_t)> progress;
     // Called after every cycle with the records broadcast in it (-1: none);
@@ -102,6 +109,10 @@ private:
     // The passes to simulate (all, or a sample under sim.estimate), and the
     // extrapolated total from a sample.
     std::vector<std::uint32_t> choose_passes(const std::vector<Host::Pass>& passes) const;
+    // sim.fault = wrong_rti when not every pass is simulated: the fault fires
+    // at the first ray-triangle miss of the faulty ICC in the whole run; a
+    // run without that pass must not fire it in a later one.
+    void place_wrong_rti(const std::vector<Host::Pass>& passes, const std::vector<std::uint32_t>& chosen);
     void extrapolate(const std::vector<Host::Pass>& passes);
     // The front end's figures of a pass that ended, and the results of a
     // pass whose groups have drained (Output Link; compared with the front
@@ -134,6 +145,7 @@ private:
     sc_core::sc_time period_;
     SimResult result_;
     std::string error_;
+    std::size_t current_pass_ = 0;  // index in the host's plan of the pass being simulated
     std::uint64_t since_sync_ = 0;
     std::uint64_t pass_len_ = 0;
 

@@ -40,6 +40,12 @@ def describe_file(name, spec):
         return f"{md_code(name)} = {md_code(spec)}" if spec else f"{md_code(name)} empty"
     if spec.get("dir"):
         return f"{md_code(name)} a directory"
+    if "result" in spec:
+        kind = "the whole result" if spec["result"] == "whole" else f"shard {spec['result']}'s partial result"
+        args = " ".join(spec.get("args", []))
+        trace = "another scene's trace" if spec.get("workload") == "other" else "a valid trace"
+        edit = {"version": ", its raplas_version edited", "truncated": ", cut in half"}.get(spec.get("edit"), "")
+        return f"{md_code(name)} = {kind} of `simulate` on {trace}" + (f" with {md_code(args)}" if args else "") + edit
     if "garbage" in spec:
         return f"{md_code(name)} = {spec['garbage'] + 1} random bytes with NULs"
     return f"{md_code(name)} = {spec['trace']} trace"

@@ -2,6 +2,7 @@
 
 #include "commands.hpp"
 #include "memory_checks.hpp"
+#include "shard.hpp"
 
 #include <CLI/CLI.hpp>
 #include <cctype>
@@ -261,6 +262,11 @@ int run_cli(int argc, char** argv) {
     auto* simulate = app.add_subcommand("simulate", "run the front end and the cycle-accurate SystemC model");
     add_simulate_options(simulate, sim);
 
+    MergeArgs merge_args;
+    auto* merge = app.add_subcommand("merge", "add up the partial results of simulate --shard I/N into the whole run's "
+                                              "JSON and CSV (docs/SHARDING.md)");
+    add_merge_options(merge, merge_args);
+
     SweepArgs sweep_args;
     sweep_args.command_line = "raplas";
     for (int i = 1; i < argc; ++i) sweep_args.command_line += " " + shell_quote(argv[i]);
@@ -270,14 +276,14 @@ int run_cli(int argc, char** argv) {
     // --max-memory: the memory budget of every command (RAPLAS_MAX_MEMORY,
     // so that the processes of a sweep inherit it).
     std::string max_memory;
-    for (auto* cmd : {render, trace, simulate, sweep})
+    for (auto* cmd : {render, trace, simulate, sweep, merge})
         cmd->add_option("--max-memory", max_memory,
                         "refuse runs estimated to need more memory than this, e.g. 4G, or off "
                         "(default: what the machine has available; docs/MEMORY.md)");
 
     // Where a wrong command line is explained: the help of the subcommand it was for.
     auto help = [&] {
-        for (const auto* cmd : {render, trace, simulate, sweep})
+        for (const auto* cmd : {render, trace, simulate, sweep, merge})
             if (cmd->parsed()) return " (see raplas " + cmd->get_name() + " --help)";
         return std::string(" (see raplas --help)");
     };
@@ -302,6 +308,7 @@ int run_cli(int argc, char** argv) {
         if (trace->parsed()) return cmd_trace(trace_so, trace_out, trace_json, trace_select);
         if (simulate->parsed()) return cmd_simulate(sim);
         if (sweep->parsed()) return cmd_sweep(sweep_args);
+        if (merge->parsed()) return cmd_merge(merge_args);
     } catch (const UsageError& e) {
         std::cerr << "raplas: error: " << e.what() << help() << "\n";
         return kExitInputError;

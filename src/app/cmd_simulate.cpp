@@ -11,6 +11,7 @@
 #include "config.hpp"
 #include "memory_checks.hpp"
 #include "raplas/app/sim_report.hpp"
+#include "shard.hpp"
 #include "raplas/frontend/trace_io.hpp"
 #include "raplas/util/atomic_file.hpp"
 #include "raplas/util/data_dir.hpp"
@@ -33,6 +34,15 @@ void add_simulate_options(CLI::App* cmd, SimulateArgs& a) {
     cmd->add_option("--json", a.json, "all statistics as JSON");
     cmd->add_option("--csv", a.csv, "the main figures as one CSV row with a header");
     cmd->add_option("--vcd", a.vcd, "VCD waveform of the top-level handshakes (GTKWave)");
+    cmd->add_option("--shard", a.shard,
+                    "I/N: simulate only shard I of N, the passes p with p mod N = I, and write its partial result to "
+                    "--json for raplas merge (docs/SHARDING.md)");
+    cmd->add_option("--shards", a.shards, "with --emit-jobs: the number of shards of the job lists")
+        ->check(CLI::Range(1u, kMaxShards));
+    cmd->add_option("--emit-jobs", a.emit_jobs,
+                    "write the commands of a sharded run to FILE.traces (the trace, for a scene), FILE (one per shard) "
+                    "and FILE.merge, for GNU parallel or a Slurm array, instead of simulating");
+    cmd->add_option("--work-dir", a.work_dir, "with --emit-jobs: the trace and the shards' results (default: OUT.d)");
     cmd->add_flag("--dump-config", a.dump_config, "print the resolved machine config as TOML and exit");
     cmd->add_flag("--progress", a.progress, "progress on stderr (default: when stderr is a terminal)");
     // --set goes to the machine config when it names a config key, else to the scene.
@@ -70,6 +80,17 @@ int cmd_simulate(const SimulateArgs& a) {
         return 0;
     }
     const model::SimConfig cfg = model::config_from_params(mp);
+    if (a.shards || !a.emit_jobs.empty()) return emit_shard_jobs(a, mp, cfg);
+    const bool sharded = !a.shard.empty();
+    ShardSpec shard;
+    if (sharded) {
+        shard = parse_shard(a.shard);
+        if (!a.vcd.empty()) throw InputError("--shard: no --vcd (a waveform covers a whole run: simulate it whole)");
+        if (!a.csv.empty())
+            throw InputError("--shard: no --csv (a shard's figures are partial: raplas merge writes the run's CSV row)");
+        if (a.json.empty()) throw InputError("--shard needs --json FILE: the partial result raplas merge reads");
+        check_shardable(cfg, "--shard " + a.shard);
+    }
 
     auto t0 = clock::now();
     Trace trace;
@@ -110,6 +131,8 @@ int cmd_simulate(const SimulateArgs& a) {
 
     model::SimOptions opt;
     opt.vcd_path = a.vcd;
+    opt.shard = shard.index;
+    opt.shards = shard.count;
     const bool show_progress = a.progress || (::isatty(2) && !so.quiet);
     auto start = clock::now();
     if (show_progress) {
@@ -131,11 +154,40 @@ int cmd_simulate(const SimulateArgs& a) {
     }
     const Provenance provenance =
         make_provenance(named, mp, trace, cfg.icc.decoder.select == model::TriangleSelect::any);
+    const WorkloadFacts facts = workload_facts(trace, result);
+    if (sharded) {
+        PartialInput pi;
+        pi.shard = shard;
+        pi.result = &result;
+        pi.memory = &memory;
+        pi.workload = &facts;
+        pi.provenance = &provenance;
+        pi.config_name = config_name;
+        pi.scene_name = scene_name;
+        pi.machine_config = mp.dump();
+        pi.frontend_wall_s = frontend_s;
+        const nlohmann::json part = partial_json(pi);
+        write_file_atomically(a.json, part.dump(2) + "\n");
+        if (!so.quiet) std::cout << shard_summary(pi, a.json);
+        if (result.functional_checked && !result.functional_match) {
+            // The same line as a whole run's, from the same report of the mismatch.
+            SimReportInput in;
+            in.result = &result;
+            in.config = &cfg;
+            in.workload = &facts;
+            const nlohmann::json j = sim_json(in);
+            std::cerr << "raplas: error: functional mismatch in shard " << shard.index << "/" << shard.count << ": "
+                      << result.rays_mismatched << " of " << result.rays_checked
+                      << " rays differ from the front end; first: " << describe_mismatch(j["first_mismatch"]) << "\n";
+            return kExitInternalError;
+        }
+        return 0;
+    }
     SimReportInput in;
     in.provenance = &provenance;
     in.result = &result;
     in.config = &cfg;
-    in.trace = &trace;
+    in.workload = &facts;
     in.config_name = config_name;
     in.scene_name = scene_name;
     in.frontend_wall_s = frontend_s;

@@ -30,6 +30,9 @@ struct SceneOptions {
 struct SimulateArgs {
     SceneOptions so;
     std::string config, trace, json, csv, vcd;
+    std::string shard;                 // I/N: simulate only the passes of shard I (docs/SHARDING.md)
+    std::uint32_t shards = 0;          // with emit_jobs: write the job lists of N shards
+    std::string emit_jobs, work_dir;
     std::vector<std::string> config_sets;
     std::uint32_t iccs = 0;  // 0: from the config
     std::uint32_t fifo = 0;  // 0: from the config

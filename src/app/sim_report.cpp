@@ -142,23 +142,47 @@ Provenance make_provenance(ParamSet named, ParamSet resolved, const Trace& trace
     model::resolve_numerics(named);
     model::resolve_numerics(resolved);
     Provenance p;
-    std::string canonical;
     p.resolved_config = nlohmann::json::object();
     for (const std::string& k : resolved.keys()) {
         const std::string v = resolved.value_text(k);
         p.resolved_config[k] = param_json(resolved, k);
         if (v != named.value_text(k)) p.overrides.emplace_back(k, v);
-        if (k != "name") canonical += k + "=" + v + "\n";
     }
-    p.config_hash = hex64(fnv1a64(canonical));
+    p.config_hash = config_hash(resolved);
     p.workload_hash = workload_hash(trace, pairless);
     return p;
+}
+
+std::string config_hash(ParamSet resolved) {
+    model::resolve_numerics(resolved);
+    std::string canonical;
+    for (const std::string& k : resolved.keys())
+        if (k != "name") canonical += k + "=" + resolved.value_text(k) + "\n";
+    return hex64(fnv1a64(canonical));
+}
+
+WorkloadFacts workload_facts(const Trace& t, const model::SimResult& r) {
+    WorkloadFacts w;
+    w.ray_groups = t.groups.size();
+    w.primary_groups = t.primary_groups;
+    w.spheres = t.spheres.size();
+    w.triangles = t.triangles.size();
+    w.group_size = t.group_size;
+    w.shadow_group_size = t.shadow_group_size;
+    w.counts = t.total_counts();
+    if (r.first_mismatch) {
+        const TraceGroup& g = t.groups[r.first_mismatch->group];
+        w.mismatch_primary = g.kind == GroupKind::primary;
+        w.mismatch_px = g.px;
+        w.mismatch_py = g.py;
+    }
+    return w;
 }
 
 nlohmann::json sim_json(const SimReportInput& in) {
     const model::SimResult& r = *in.result;
     const model::SimConfig& c = *in.config;
-    const Trace& t = *in.trace;
+    const WorkloadFacts& t = *in.workload;
     const double seconds = double(r.total_cycles) / (c.clock_mhz * 1e6);
     nlohmann::json j;
     j["scene"] = in.scene_name;
@@ -204,13 +228,13 @@ nlohmann::json sim_json(const SimReportInput& in) {
     j["time_ms"] = seconds * 1e3;
     j["passes"] = r.host.passes;
     j["primary_passes"] = r.host.primary_passes;
-    j["ray_groups"] = t.groups.size();
+    j["ray_groups"] = t.ray_groups;
     j["primary_groups"] = t.primary_groups;
-    j["spheres"] = t.spheres.size();
-    j["triangles"] = t.triangles.size();
+    j["spheres"] = t.spheres;
+    j["triangles"] = t.triangles;
     j["group_size"] = t.group_size;
     j["shadow_group_size"] = t.shadow_group_size;
-    GroupCounts wc = t.total_counts();
+    const GroupCounts& wc = t.counts;
     j["workload"] = {{"plane_sphere_tests", wc.plane_tests},
                      {"sphere_hits", wc.sphere_hits},
                      {"ray_triangle_tests", wc.rt_tests},
@@ -278,7 +302,10 @@ nlohmann::json sim_json(const SimReportInput& in) {
     j["iccs_detail"] = iccs;
     model::MemoryStats ms;
     if (in.memory) ms = *in.memory;
-    else ms.system = c.memory.system, ms.area = model::machine_area(c, model::area_workload(t, c));
+    else
+        ms.system = c.memory.system,
+        ms.area = model::machine_area(c, model::area_workload(t.spheres, t.triangles, t.group_size,
+                                                              t.shadow_group_size, c));
     j["memory"] = {{"system", model::memory_system_name(ms.system)},
                    {"pe", c.memory.pe_rti_bound ? "rti" : "ideal"},
                    {"sphere_records_read", ms.sphere_records_read},
@@ -294,15 +321,14 @@ nlohmann::json sim_json(const SimReportInput& in) {
     j["first_mismatch"] = nullptr;
     if (r.first_mismatch) {
         const auto& m = *r.first_mismatch;
-        const TraceGroup& g = in.trace->groups[m.group];
-        const bool primary = g.kind == GroupKind::primary;
+        const bool primary = t.mismatch_primary;
         auto hit = [](const Hit& x) {
             return x.tri < 0 ? nlohmann::json(nullptr) : nlohmann::json{{"triangle", x.tri}, {"t", x.t}};
         };
         j["first_mismatch"] = {{"group", m.group},
                                {"kind", primary ? "primary" : "shadow"},
                                {"ray", {m.h, m.v}},
-                               {"pixel", {g.px + (primary ? std::int32_t(m.h) : 0), g.py + (primary ? std::int32_t(m.v) : 0)}},
+                               {"pixel", {t.mismatch_px + (primary ? std::int32_t(m.h) : 0), t.mismatch_py + (primary ? std::int32_t(m.v) : 0)}},
                                {"model", hit(m.model)},
                                {"frontend", hit(m.frontend)}};
     }
@@ -311,6 +337,10 @@ nlohmann::json sim_json(const SimReportInput& in) {
                  {"model_s", r.model_wall_s},
                  {"sim_cycles_per_second", double(r.total_cycles) / w},
                  {"sim_icc_cycles_per_second", double(r.total_cycles) * c.iccs / w}};
+    if (in.shards) {
+        j["wall"]["shards"] = in.shards;
+        j["wall"]["model_s_max"] = in.model_wall_max_s;
+    }
     return j;
 }
 

@@ -1,6 +1,6 @@
 // The bad-input table (tests/bad_input/cases.toml, shown in docs/BAD_INPUT.md):
-// every case runs the command line in a forked child of this process (the
-// same code as the executable, without the cost of loading it ~100 times) in
+// every case runs the command line in a forked child of this process
+// (run_in_child.hpp: without the cost of loading the executable ~150 times) in
 // a fresh directory holding the case's files; the test checks the exit code,
 // the whole of stderr and that a refused run left no file behind.
 // tests/bad_input.py generates the page from the same table and checks it.
@@ -23,62 +23,19 @@
 #include <vector>
 
 #include "raplas/app/cli.hpp"
+#include "run_in_child.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
+using raplas_test::Outcome;
+using raplas_test::run_in_child;
 
 std::string slurp(const fs::path& p) {
     std::ifstream in(p, std::ios::binary);
     std::stringstream ss;
     ss << in.rdbuf();
     return ss.str();
-}
-
-struct Outcome {
-    int code = -1;
-    std::string err;
-};
-
-// `raplas ARGS` in a child process with `dir` as working directory.
-Outcome run_in_child(const fs::path& dir, const std::vector<std::string>& args,
-                     const std::vector<std::pair<std::string, std::string>>& env) {
-    const fs::path out = dir.parent_path() / (dir.filename().string() + ".stdout");
-    const fs::path err = dir.parent_path() / (dir.filename().string() + ".stderr");
-    std::cout.flush();
-    std::cerr.flush();
-    std::fflush(nullptr);
-    const pid_t pid = ::fork();
-    if (pid == 0) {
-        const int o = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        if (o < 0 || e < 0 || ::dup2(o, 1) < 0 || ::dup2(e, 2) < 0 || ::chdir(dir.c_str()) != 0) ::_exit(125);
-        ::unsetenv("RAPLAS_SCENE_PATH");
-        ::unsetenv("RAPLAS_MAX_MEMORY");
-        for (const auto& [k, v] : env) ::setenv(k.c_str(), v.c_str(), 1);
-        std::vector<std::string> storage = {"raplas"};
-        storage.insert(storage.end(), args.begin(), args.end());
-        std::vector<char*> argv;
-        for (auto& s : storage) argv.push_back(s.data());
-        argv.push_back(nullptr);
-        const int code = raplas::run_cli(int(storage.size()), argv.data());
-        std::cout.flush();
-        std::cerr.flush();
-        std::fflush(nullptr);
-        // Ends the child without static destructors or a leak check of the
-        // parent's state. The system call, not _exit(): AddressSanitizer
-        // warns at any noreturn call after a SystemC simulation (FUZZING.md).
-        ::syscall(SYS_exit_group, code);
-        std::abort();
-    }
-    Outcome r;
-    int status = 0;
-    if (pid < 0 || ::waitpid(pid, &status, 0) != pid) return r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    r.err = slurp(err);
-    fs::remove(out);
-    fs::remove(err);
-    return r;
 }
 
 std::vector<std::string> expected_lines(const toml::table& c) {
@@ -131,6 +88,9 @@ protected:
                                        {});
         ASSERT_EQ(b.code, 0) << b.err;
         both_trace = slurp(d / "both.trace");
+        const Outcome o = run_in_child(d, {"trace", "-q", "-o", "other.trace", "--set", "image.width=16", "--set",
+                                           "image.height=8", "--set", "builtin_detail=0"}, {});
+        ASSERT_EQ(o.code, 0) << o.err;
     }
     void TearDown() override {
         std::error_code ec;
@@ -149,7 +109,31 @@ protected:
             return;
         }
         std::string data;
-        if (auto n = t["garbage"].value<std::int64_t>()) {
+        if (auto shard = t["result"].value<std::string>()) {
+            // simulate's --json on the valid trace (workload = "other": another
+            // scene's): the whole run's, or shard I/N's partial result.
+            const fs::path d = tmp / "trace";
+            const std::string trace = t["workload"].value_or(std::string()) == "other" ? "other.trace" : "valid.trace";
+            std::vector<std::string> args{"simulate", "-q", "--trace", (d / trace).string(), "--json", p.string()};
+            if (*shard != "whole") args.insert(args.end(), {"--shard", *shard});
+            if (const toml::array* more = t["args"].as_array())
+                for (const auto& x : *more) args.push_back(x.value_or(std::string()));
+            const Outcome r = run_in_child(d, args, {});
+            ASSERT_EQ(r.code, 0) << r.err;
+            data = slurp(p);
+            const std::string edit = t["edit"].value_or(std::string());
+            if (edit == "version") {  // written by another raplas
+                const std::string key = "\"raplas_version\": \"";
+                const std::size_t at = data.find(key);
+                ASSERT_NE(at, std::string::npos);
+                const std::size_t end = data.find('"', at + key.size());
+                data.replace(at + key.size(), end - at - key.size(), "0.0.1");
+            } else if (edit == "truncated") {
+                data.resize(data.size() / 2);
+            } else {
+                ASSERT_EQ(edit, "") << "unknown edit";
+            }
+        } else if (auto n = t["garbage"].value<std::int64_t>()) {
             std::mt19937 rng(7);
             for (std::int64_t i = 0; i < *n; ++i) data.push_back(char(rng() & 0xff));
             data.push_back('\0');

@@ -25,14 +25,31 @@ struct Provenance {
 // `named`: the config as loaded from its file (or the defaults); `resolved`:
 // with --set, --iccs and --fifo applied. Both get their numerics resolved.
 Provenance make_provenance(ParamSet named, ParamSet resolved, const Trace& trace, bool pairless);
+// The config_hash of a resolved machine config (numerics resolved first).
+std::string config_hash(ParamSet resolved);
+
+// What a report says of the workload: the trace's sizes and counts, and the
+// kind and first pixel of the group of the result's first mismatching ray.
+struct WorkloadFacts {
+    std::uint64_t ray_groups = 0, primary_groups = 0, spheres = 0, triangles = 0;
+    std::uint32_t group_size = 0, shadow_group_size = 0;
+    GroupCounts counts;
+    bool mismatch_primary = true;
+    std::int32_t mismatch_px = 0, mismatch_py = 0;
+};
+WorkloadFacts workload_facts(const Trace& t, const model::SimResult& r);
 
 struct SimReportInput {
     const model::SimResult* result = nullptr;
     const model::SimConfig* config = nullptr;
-    const Trace* trace = nullptr;
+    const WorkloadFacts* workload = nullptr;
     std::string config_name;
     std::string scene_name;
     double frontend_wall_s = 0;
+    // A result merged from shards (raplas merge): their count and the longest
+    // shard's model time, reported under "wall" (0: not merged).
+    std::uint32_t shards = 0;
+    double model_wall_max_s = 0;
     const model::MemoryStats* memory = nullptr;  // memory system figures (none: not reported)
     const Provenance* provenance = nullptr;
 };

@@ -1,0 +1,59 @@
+// Internal to the app layer: one simulation sharded across processes and
+// nodes (docs/SHARDING.md). `simulate --shard I/N` simulates the passes p
+// with p mod N = I and writes a partial result; `raplas merge` adds the
+// parts up to exactly the unsharded result; `simulate --shards N
+// --emit-jobs FILE` writes the job lists that run the shards.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "baseline_memory.hpp"
+#include "commands.hpp"
+#include "config.hpp"
+#include "raplas/app/sim_report.hpp"
+
+namespace raplas {
+
+struct ShardSpec {
+    std::uint32_t index = 0, count = 1;
+};
+// Job lists name every shard's file in one merge command: a bound that keeps
+// that command well inside the kernel's argument limits.
+constexpr std::uint32_t kMaxShards = 10000;
+
+// "I/N" with 0 <= I < N <= kMaxShards; InputError naming --shard otherwise.
+ShardSpec parse_shard(const std::string& text);
+// InputError, starting with `option`, when the configured run's passes are
+// not independent or there are no passes to share out.
+void check_shardable(const model::SimConfig& cfg, const std::string& option);
+
+// The partial result of one shard (simulate --shard I/N --json).
+struct PartialInput {
+    ShardSpec shard;
+    const model::SimResult* result = nullptr;
+    const model::MemoryStats* memory = nullptr;
+    const WorkloadFacts* workload = nullptr;
+    const Provenance* provenance = nullptr;
+    std::string config_name, scene_name;
+    std::string machine_config;  // the resolved machine config as TOML (ParamSet::dump)
+    double frontend_wall_s = 0;
+};
+nlohmann::json partial_json(const PartialInput& in);
+// What a shard prints on stdout: one line.
+std::string shard_summary(const PartialInput& in, const std::string& json_path);
+
+// `raplas simulate --shards N --emit-jobs FILE`: the job lists; `mp` is the
+// resolved machine config, `cfg` the config from it.
+int emit_shard_jobs(const SimulateArgs& a, const ParamSet& mp, const model::SimConfig& cfg);
+
+struct MergeArgs {
+    std::vector<std::string> parts;
+    std::string json, csv;
+    bool quiet = false;
+};
+void add_merge_options(CLI::App* cmd, MergeArgs& a);
+int cmd_merge(const MergeArgs& a);
+
+}  // namespace raplas
