@@ -1,3 +1,4 @@
+#include <cctype>
 #include "raplas/util/params.hpp"
 
 #include <algorithm>
@@ -262,12 +263,22 @@ void ParamSet::set(const std::string& assignment, const std::string& option) {
     const std::string key = full.substr(0, eq);
     const std::string value = full.substr(eq + 1);
     check_nesting(value, option + " " + key, false);
+    // A bare word is a string. It is told apart before parsing, not by catching
+    // toml++'s parse error: settings are also resolved after a simulation, where
+    // a throw upsets AddressSanitizer's view of SystemC's stacks (docs/FUZZING.md).
+    // A TOML value that starts with a letter is only true, false, inf or nan.
+    const bool bare_word = !value.empty() && (std::isalpha(static_cast<unsigned char>(value[0])) || value[0] == '_') &&
+                           value != "true" && value != "false" && value != "inf" && value != "nan";
     toml::table tbl;
-    try {
-        tbl = toml::parse("v = " + value);
-    } catch (const toml::parse_error&) {
-        tbl = toml::table{};
-        tbl.insert("v", value);  // a bare word is a string
+    if (bare_word) {
+        tbl.insert("v", value);
+    } else {
+        try {
+            tbl = toml::parse("v = " + value);
+        } catch (const toml::parse_error&) {
+            tbl = toml::table{};
+            tbl.insert("v", value);  // not TOML either: a string
+        }
     }
     assign(key, tbl.get("v"), option + " " + key);
 }
