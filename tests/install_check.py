@@ -9,7 +9,8 @@ Checks: the binary, every configs/*.toml and scenes/*.toml and the docs are
 installed where README.md says; `simulate --config paper -q --json` runs with
 config "paper" and functional_match true; --dump-config works; a config and a
 scene that exist only in the prefix are found by name (so the prefix is
-searched, not only the source tree the build came from)."""
+searched, not only the source tree the build came from); a PNG is written with
+the image module installed in PREFIX/lib, not the build tree's."""
 import glob
 import json
 import os
@@ -84,6 +85,16 @@ def main():
         r = raplas("render", "--scene", "prefix_scene", "-q", "--out", "p.png")
         check(r.returncode == 0 and os.path.isfile(os.path.join(work, "p.png")),
               f"--scene prefix_scene (only in the prefix) renders: exit {r.returncode} {r.stderr.strip()}")
+        # The image module is loaded from the prefix, not from the build tree.
+        modules = glob.glob(os.path.join(prefix, "lib*", "**", "raplas_oiio.so"), recursive=True)
+        check(len(modules) == 1, f"the image module raplas_oiio.so is installed under PREFIX/lib (found {modules})")
+        module = os.path.realpath(modules[0]) if modules else None
+        r = subprocess.run([exe, "render", "-q", "--out", "m.png"], cwd=work, env={**env, "LD_DEBUG": "files"},
+                           capture_output=True, text=True)
+        loaded = [line.split("file=")[1].split()[0] for line in r.stderr.splitlines()
+                  if "file=" in line and "raplas_oiio.so" in line and "dynamically loaded" in line]
+        check(r.returncode == 0 and loaded and os.path.realpath(loaded[0]) == module,
+              f"render --out m.png loads the installed image module (loaded {loaded}, exit {r.returncode})")
         r = raplas("render", "--scene", "cornell", "--dump-scene")
         check(r.returncode == 0 and 'mesh = "cornell/CornellBox-Original.obj"' in r.stdout,
               f"--scene cornell --dump-scene: exit {r.returncode} {r.stderr.strip()}")

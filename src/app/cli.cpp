@@ -40,6 +40,7 @@ int cmd_render(const SceneOptions& so, const std::string& out_png, const std::st
     Scene scene;
     RenderReport rep;
     if (!so.load(scene, rep.load_s)) return 0;
+    if (!out_png.empty() || !heatmap.empty()) load_image_module();
     FrameOptions fo;
     fo.format = fmt;
     fo.threads = so.threads;

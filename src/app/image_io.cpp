@@ -1,25 +1,74 @@
 #include "raplas/app/image_io.hpp"
 
-#include <OpenImageIO/imageio.h>
+#include <dlfcn.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
+#include "oiio_module.hpp"
 #include "raplas/util/atomic_file.hpp"
 #include "raplas/util/error.hpp"
+#include "raplas/util/files.hpp"
+
+// Where the image module is: beside the installed executable (GNUInstallDirs:
+// bin -> lib/raplas), beside raplas in a build tree, and in the build tree
+// that made this program (the test binaries), all set by CMakeLists.txt.
+#ifndef RAPLAS_LIB_FROM_BIN
+#define RAPLAS_LIB_FROM_BIN "../lib/raplas"
+#endif
+#ifndef RAPLAS_OIIO_MODULE
+#define RAPLAS_OIIO_MODULE ""
+#endif
 
 namespace raplas {
 
 namespace {
 
+constexpr const char* kModuleName = "raplas_oiio.so";
+
+std::vector<std::string> module_candidates() {
+    std::vector<std::string> paths;
+    char buf[4096];
+    const ssize_t n = ::readlink("/proc/self/exe", buf, sizeof buf - 1);
+    if (n > 0) {
+        const std::string exe(buf, std::size_t(n));
+        const std::string dir = exe.substr(0, exe.find_last_of('/') + 1);
+        paths.push_back(dir + RAPLAS_LIB_FROM_BIN + "/" + kModuleName);
+        paths.push_back(dir + kModuleName);
+    }
+    if (*RAPLAS_OIIO_MODULE && std::find(paths.begin(), paths.end(), RAPLAS_OIIO_MODULE) == paths.end())
+        paths.emplace_back(RAPLAS_OIIO_MODULE);
+    return paths;
+}
+
+const RaplasOiioApi& oiio() {
+    static const RaplasOiioApi* api = [] {
+        std::string looked;
+        for (const std::string& path : module_candidates()) {
+            looked += (looked.empty() ? "" : ", ") + path;
+            if (!is_file(path)) continue;
+            void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+            if (!handle) throw std::runtime_error(std::string("cannot load the image module: ") + ::dlerror());
+            auto entry = reinterpret_cast<const RaplasOiioApi* (*)()>(::dlsym(handle, "raplas_oiio_api"));
+            const RaplasOiioApi* a = entry ? entry() : nullptr;
+            if (!a || a->abi != kRaplasOiioAbi)
+                throw std::runtime_error(path + " is not this raplas's image module (reinstall raplas)");
+            return a;
+        }
+        throw std::runtime_error(std::string("the image module ") + kModuleName + " is missing (looked at " + looked +
+                                 "; reinstall raplas)");
+    }();
+    return *api;
+}
+
 void write_rgb8(const std::string& path, int w, int h, const std::vector<std::uint8_t>& px) {
+    const RaplasOiioApi& io = oiio();
     write_atomically(path, [&](const std::string& tmp) {
-        auto out = OIIO::ImageOutput::create(tmp);
-        if (!out) throw InputError(path + ": cannot write image: " + OIIO::geterror());
-        OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
-        spec.attribute("Software", "raplas");
-        if (!out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::UINT8, px.data()) || !out->close())
-            throw InputError(path + ": cannot write image: " + out->geterror());
+        char err[512] = "";
+        if (io.write_rgb8(tmp.c_str(), w, h, px.data(), err, sizeof err) != 0)
+            throw InputError(path + ": cannot write image: " + err);
     });
 }
 
@@ -56,16 +105,18 @@ void write_heatmap(const std::string& path, int width, int height, const std::ve
     write_rgb8(path, width, height, px);
 }
 
+void load_image_module() { oiio(); }
+
 std::vector<std::uint8_t> read_rgb8(const std::string& path, int& width, int& height) {
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) throw InputError(path + ": cannot read image: " + OIIO::geterror());
-    const OIIO::ImageSpec& spec = in->spec();
-    width = spec.width;
-    height = spec.height;
-    std::vector<std::uint8_t> px(std::size_t(width) * std::size_t(height) * 3);
-    if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, px.data()))
-        throw InputError(path + ": cannot read image: " + in->geterror());
-    in->close();
+    std::vector<std::uint8_t> px;
+    auto alloc = [](void* ctx, std::size_t bytes) -> std::uint8_t* {
+        auto* v = static_cast<std::vector<std::uint8_t>*>(ctx);
+        v->resize(bytes);
+        return v->data();
+    };
+    char err[512] = "";
+    if (oiio().read_rgb8(path.c_str(), &width, &height, &px, alloc, err, sizeof err) != 0)
+        throw InputError(path + ": cannot read image: " + err);
     return px;
 }
 
