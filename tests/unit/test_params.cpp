@@ -614,7 +614,9 @@ TEST(AutoCamera, EveryCornerIsInViewAndTheMeshReachesTheBorder) {
             EXPECT_LE(f.extent, 1.0) << "a corner is outside the view";
             EXPECT_GE(f.extent, 0.95) << "the mesh does not reach the border (a 2 % margin): not framed tightly";
             // Only the triangles asked for count (the floor of a scene is left out of the framing).
-            if (tris == box) EXPECT_GT(framing(m, m.triangles.size(), cam, aspect).extent, 1.0);
+            if (tris == box) {
+                EXPECT_GT(framing(m, m.triangles.size(), cam, aspect).extent, 1.0);
+            }
         }
     // The flat scene is seen from higher up than the compact one.
     const Camera low = auto_camera(m, box, 40.0, 1.0), high = auto_camera(m, m.triangles.size(), 40.0, 1.0);
