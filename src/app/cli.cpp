@@ -4,6 +4,8 @@
 #include "memory_checks.hpp"
 #include "shard.hpp"
 
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
 #include <cctype>
 #include <cerrno>
@@ -11,9 +13,11 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <iostream>
 
 #include "raplas/app/image_io.hpp"
+#include "raplas/app/progress.hpp"
 #include "raplas/app/processes.hpp"
 #include "raplas/app/reports.hpp"
 #include "raplas/frontend/trace_io.hpp"
@@ -47,7 +51,10 @@ int cmd_render(const SceneOptions& so, const std::string& out_png, const std::st
     fo.cull = !so.no_cull;
     fo.per_ray = !heatmap.empty();
     check_front_end(FrontEndUse::render, scene, fo);
+    PhaseProgress progress(so.show_progress(), ::isatty(2));
+    fo.progress = std::ref(progress);
     Frame frame = render_frame(scene, fo);
+    progress.finish();
     auto t0 = std::chrono::steady_clock::now();
     if (!out_png.empty()) write_rgb_image(out_png, frame.width, frame.height, frame.rgb);
     if (!heatmap.empty()) write_heatmap(heatmap, frame.width, frame.height, frame.work_rt);
@@ -78,7 +85,10 @@ int cmd_trace(const SceneOptions& so, const std::string& out, const std::string&
     fo.record = true;
     fo.pairless = select == "any";
     check_front_end(FrontEndUse::trace_file, scene, fo);
+    PhaseProgress progress(so.show_progress(), ::isatty(2));
+    fo.progress = std::ref(progress);
     Frame frame = render_frame(scene, fo);
+    progress.finish();
     auto t0 = std::chrono::steady_clock::now();
     Trace t = make_trace(scene, frame, fmt, fo.pairless);
     std::string bytes = serialize_trace(t);
@@ -113,7 +123,11 @@ void SceneOptions::add_to(CLI::App* cmd, bool with_format) {
                   "front end: test every sphere against every group (results are identical; only slower)");
     cmd->add_flag("--dump-scene", dump_scene, "print the resolved scene as TOML and exit");
     cmd->add_flag("-q,--quiet", quiet, "no summary on stdout");
+    cmd->add_flag("--progress", progress,
+                  "progress with ETA on stderr, one line per update (default: when stderr is a terminal and not -q)");
 }
+
+bool SceneOptions::show_progress() const { return progress || (::isatty(2) && !quiet); }
 
 NumFormat SceneOptions::parsed_format() const {
     try {

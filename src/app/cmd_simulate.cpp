@@ -10,6 +10,7 @@
 #include "commands.hpp"
 #include "config.hpp"
 #include "memory_checks.hpp"
+#include "raplas/app/progress.hpp"
 #include "raplas/app/sim_report.hpp"
 #include "shard.hpp"
 #include "raplas/frontend/trace_io.hpp"
@@ -44,7 +45,6 @@ void add_simulate_options(CLI::App* cmd, SimulateArgs& a) {
                     "and FILE.merge, for GNU parallel or a Slurm array, instead of simulating");
     cmd->add_option("--work-dir", a.work_dir, "with --emit-jobs: the trace and the shards' results (default: OUT.d)");
     cmd->add_flag("--dump-config", a.dump_config, "print the resolved machine config as TOML and exit");
-    cmd->add_flag("--progress", a.progress, "progress on stderr (default: when stderr is a terminal)");
     // --set goes to the machine config when it names a config key, else to the scene.
     cmd->remove_option(cmd->get_option("--set"));
     cmd->add_option("--set", a.config_sets,
@@ -122,7 +122,10 @@ int cmd_simulate(const SimulateArgs& a) {
         fo.pairless = cfg.icc.decoder.select == model::TriangleSelect::any;
         check_model_up_front(cfg, scene);
         check_front_end(FrontEndUse::simulate, scene, fo);
+        PhaseProgress progress(so.show_progress(), ::isatty(2));
+        fo.progress = std::ref(progress);
         Frame frame = render_frame(scene, fo);
+        progress.finish();
         trace = make_trace(scene, std::move(frame), cfg.format, fo.pairless);
         scene_name = scene.name;
     }
@@ -133,19 +136,15 @@ int cmd_simulate(const SimulateArgs& a) {
     opt.vcd_path = a.vcd;
     opt.shard = shard.index;
     opt.shards = shard.count;
-    const bool show_progress = a.progress || (::isatty(2) && !so.quiet);
-    auto start = clock::now();
-    if (show_progress) {
+    ProgressLine model_progress(so.show_progress(), ::isatty(2));
+    if (so.show_progress()) {
         opt.progress = [&](std::size_t done, std::size_t total, std::uint64_t cycles) {
-            const double el = std::chrono::duration<double>(clock::now() - start).count();
-            const double eta = done ? el / double(done) * double(total - done) : 0.0;
-            std::fprintf(stderr, "\r  pass %zu/%zu, %llu cycles, %.1f s elapsed, ETA %.1f s   ", done, total,
-                         (unsigned long long)cycles, el, eta);
-            if (done == total) std::fprintf(stderr, "\n");
+            model_progress.draw(done, total, "model passes", ", " + std::to_string(cycles) + " cycles", done, total);
         };
     }
     model::MemoryStats memory;
     const model::SimResult result = model::simulate_system(trace, cfg, memory, opt);
+    model_progress.finish();
     if (!result.error.empty()) {  // printed, not thrown: see SimResult::error
         const bool watchdog = result.error.rfind("watchdog", 0) == 0;
         std::cerr << (watchdog ? "raplas: error: " : "raplas: internal error: ") << InputError::printable(result.error)

@@ -19,8 +19,11 @@ struct SceneOptions {
     bool dump_scene = false;
     bool no_cull = false;
     bool quiet = false;
+    bool progress = false;  // --progress: also when stderr is not a terminal
 
     void add_to(CLI::App* cmd, bool with_format = true);
+    // Progress lines on stderr: asked for, or stderr is a terminal and not -q.
+    bool show_progress() const;
     NumFormat parsed_format() const;
     // Loads the scene parameters (file, then --set), letting `adjust` change
     // them before the scene is built. Returns false when --dump-scene printed them.
@@ -37,7 +40,6 @@ struct SimulateArgs {
     std::uint32_t iccs = 0;  // 0: from the config
     std::uint32_t fifo = 0;  // 0: from the config
     bool dump_config = false;
-    bool progress = false;
 };
 
 // A machine config: a file, or a name in configs/ (the working directory's,

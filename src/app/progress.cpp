@@ -32,9 +32,12 @@ void ProgressLine::draw(std::size_t done, std::size_t total, const std::string& 
         std::fprintf(stderr, "\r%s\033[K", line.c_str());
         drawn_ = true;
     } else {
-        // One line per change of the counts, not per clock tick.
+        // One line per change of the counts, not per clock tick; of a long
+        // count, one line per percent.
         if (counts == last_) return;
+        if (total > 100 && done != total && done * 100 / total == last_percent_ && !last_.empty()) return;
         last_ = counts;
+        last_percent_ = total ? done * 100 / total : 0;
         std::fprintf(stderr, "%s\n", line.c_str());
     }
     std::fflush(stderr);
@@ -49,6 +52,21 @@ void ProgressLine::message(const std::string& text) {
 void ProgressLine::finish() {
     if (on_ && tty_ && drawn_) std::fputs("\n", stderr);
     drawn_ = false;
+}
+
+void PhaseProgress::operator()(const char* phase, std::size_t done, std::size_t total) {
+    if (!on_) return;
+    if (!line_ || phase_ != phase) {
+        finish();
+        line_ = std::make_unique<ProgressLine>(on_, tty_);
+        phase_ = phase;
+    }
+    line_->draw(done, total, "front end " + phase_ + " ray groups", "", done, total);
+}
+
+void PhaseProgress::finish() {
+    if (line_) line_->finish();
+    line_.reset();
 }
 
 }  // namespace raplas

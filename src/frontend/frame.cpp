@@ -1,14 +1,44 @@
 #include "raplas/frontend/frame.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <functional>
+#include <mutex>
 
 #include "raplas/util/parallel.hpp"
 
 namespace raplas {
 
 namespace {
+
+// Hands FrameOptions::progress the groups finished by the worker threads: a
+// call every 1/200 of the phase, one at a time, `done` never going back.
+class GroupProgress {
+public:
+    GroupProgress(const FrameOptions& opt, const char* phase, std::size_t total)
+        : fn_(opt.progress), phase_(phase), total_(total), step_(std::max<std::size_t>(1, total / 200)) {
+        if (fn_) fn_(phase_, 0, total_);
+    }
+    void one_done() {
+        if (!fn_) return;
+        const std::size_t d = done_.fetch_add(1) + 1;
+        if (d % step_ != 0 && d != total_) return;
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (d <= last_) return;
+        last_ = d;
+        fn_(phase_, d, total_);
+    }
+
+private:
+    const std::function<void(const char*, std::size_t, std::size_t)>& fn_;
+    const char* phase_;
+    std::size_t total_, step_;
+    std::atomic<std::size_t> done_{0};
+    std::mutex mutex_;
+    std::size_t last_ = 0;
+};
 double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -69,9 +99,11 @@ Frame render_frame(const Scene& scene, const FrameOptions& opt) {
     t0 = clock::now();
     f.primary = primary_groups(scene);
     f.primary_results.resize(f.primary.size());
-    parallel_for(f.primary.size(), threads,
-                 [&](std::size_t i) { tracer.trace(f.primary[i], f.primary_results[i], opt.record, opt.per_ray, opt.pairless);
-                 });
+    GroupProgress primary_progress(opt, "primary", f.primary.size());
+    parallel_for(f.primary.size(), threads, [&](std::size_t i) {
+        tracer.trace(f.primary[i], f.primary_results[i], opt.record, opt.per_ray, opt.pairless);
+        primary_progress.one_done();
+    });
     f.pixel_ray.resize(npix);
     f.pixel_hit.assign(npix, Hit{});
     f.work_rt.assign(npix, 0);
@@ -139,6 +171,7 @@ Frame render_frame(const Scene& scene, const FrameOptions& opt) {
     std::vector<GroupCounts> counts(lit_pixels.size());
     std::vector<float> direct(npix, 0.0f);
     const Vec3d light_n = scene.light.normal();
+    GroupProgress shadow_progress(opt, "shadow", lit_pixels.size());
     parallel_for(lit_pixels.size(), threads, [&](std::size_t i) {
         const std::size_t px = lit_pixels[i];
         const int x = int(px % std::size_t(scene.width)), y = int(px / std::size_t(scene.width));
@@ -174,6 +207,7 @@ Frame render_frame(const Scene& scene, const FrameOptions& opt) {
             res.hits.shrink_to_fit();
             shadow_res[i] = std::move(res);
         }
+        shadow_progress.one_done();
     });
     for (const auto& c : counts) f.shadow_counts += c;
     if (opt.record) {

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -67,6 +68,46 @@ TEST_F(Cli, RenderWithNoArgumentsWritesAPng) {
     std::size_t files = 0;
     for (const auto& e : fs::directory_iterator(dir)) files += e.is_regular_file();
     EXPECT_EQ(files, 1u);
+}
+
+// --progress: one line per update on stderr for each long phase (the front
+// end's primary and shadow ray groups, the model's passes), each ending at its
+// total, a percent at a time at most; results as without it; -q alone is silent.
+TEST_F(Cli, ProgressLinesForTheFrontEndAndTheModelChangeNoResult) {
+    const std::vector<std::string> small = {"--set", "image.width=24", "--set", "image.height=16"};
+    const RunResult quiet = run(plus({"simulate", "-q", "--json", "quiet.json"}, small));
+    ASSERT_EQ(quiet.code, 0) << quiet.err;
+    EXPECT_EQ(quiet.err, "");
+    const RunResult shown = run(plus({"simulate", "-q", "--progress", "--json", "shown.json"}, small));
+    ASSERT_EQ(shown.code, 0) << shown.err;
+    EXPECT_EQ(shown.out, "");
+    std::map<std::string, std::vector<std::string>> phases;  // unit -> its lines' "done/total"
+    std::istringstream lines(shown.err);
+    for (std::string line; std::getline(lines, line);) {
+        ASSERT_THAT(line, StartsWith("[")) << line;
+        ASSERT_THAT(line, HasSubstr("elapsed, ETA")) << line;
+        const auto counts = line.find("] ") + 2;
+        const auto space = line.find(' ', counts);
+        const auto unit_end = line.find_first_of(",", space);
+        phases[line.substr(space + 1, unit_end - space - 1)].push_back(line.substr(counts, space - counts));
+    }
+    for (const char* unit : {"front end primary ray groups", "front end shadow ray groups", "model passes"}) {
+        ASSERT_EQ(phases.count(unit), 1u) << unit << " missing in:\n" << shown.err;
+        const std::vector<std::string>& v = phases[unit];
+        const std::string last = v.back();
+        const std::string total = last.substr(last.find('/') + 1);
+        EXPECT_EQ(last, total + "/" + total) << unit;
+        EXPECT_LE(v.size(), 102u) << unit;
+    }
+    auto drop_wall = [](nlohmann::json j) {
+        j.erase("wall");
+        return j;
+    };
+    EXPECT_EQ(drop_wall(nlohmann::json::parse(slurp(dir / "shown.json"))),
+              drop_wall(nlohmann::json::parse(slurp(dir / "quiet.json"))));
+    const RunResult render = run(plus({"render", "--progress", "-q", "-o", "p.png"}, small));
+    ASSERT_EQ(render.code, 0) << render.err;
+    EXPECT_THAT(render.err, HasSubstr("front end shadow ray groups"));
 }
 
 TEST_F(Cli, VersionAndHelp) {

@@ -1,10 +1,12 @@
 // One progress line on stderr for a long phase: redrawn in place on a
 // terminal (bar, counts, elapsed time, ETA), and otherwise written as a new
-// line only when the counts change, so a log gets one line per step.
+// line only when the counts change (of more than 100 units, when the percent
+// done changes), so a log gets one line per step.
 #pragma once
 
 #include <chrono>
 #include <cstddef>
+#include <memory>
 #include <string>
 
 namespace raplas {
@@ -29,7 +31,22 @@ private:
     bool on_, tty_;
     bool drawn_ = false;
     std::string last_;
+    std::size_t last_percent_ = 0;
     std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
+};
+
+// The front end's progress (FrameOptions::progress): one ProgressLine per
+// phase, so that each phase's elapsed time and ETA are its own.
+class PhaseProgress {
+public:
+    PhaseProgress(bool on, bool tty) : on_(on), tty_(tty) {}
+    void operator()(const char* phase, std::size_t done, std::size_t total);
+    void finish();
+
+private:
+    bool on_, tty_;
+    std::string phase_;
+    std::unique_ptr<ProgressLine> line_;
 };
 
 }  // namespace raplas

@@ -37,6 +37,11 @@ struct FrameOptions {
     // traced twice); may throw to stop (the memory budget,
     // src/app/memory_checks.cpp).
     std::function<void(const Frame&, std::size_t lit_pixels, const ShadowSample& sample)> before_shadow;
+    // Called as ray groups are traced, phase "primary" then "shadow": with 0
+    // when a phase starts, then at most about 200 times a phase, one call at a
+    // time, `done` increasing to `total`. For progress lines; never changes a
+    // result.
+    std::function<void(const char* phase, std::size_t done, std::size_t total)> progress;
 };
 
 struct PhaseTimes {
