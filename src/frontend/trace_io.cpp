@@ -9,6 +9,7 @@
 #include <type_traits>
 
 #include "raplas/util/atomic_file.hpp"
+#include "raplas/util/input_file.hpp"
 #include "raplas/util/error.hpp"
 #include "raplas/util/files.hpp"
 
@@ -417,20 +418,12 @@ Trace parse_trace(const std::string& bytes, const std::string& name) {
 void write_trace(const std::string& path, const Trace& t) { write_file_atomically(path, serialize_trace(t)); }
 
 Trace read_trace(const std::string& path) {
-    struct stat st{};
-    if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) throw InputError(path + ": is a directory, not a trace");
-    std::ifstream in(path, std::ios::binary | std::ios::ate);
-    if (!in) throw InputError(path + ": cannot open trace: " + std::strerror(errno));
-    // Read straight into one buffer of the file's size (no stream copy).
-    const std::streamoff size = in.tellg();
-    std::string bytes;
-    if (size > 0) {
-        bytes.resize(std::size_t(size));
-        in.seekg(0);
-        in.read(bytes.data(), size);
-        bytes.resize(std::size_t(in.gcount()));
-    }
-    return parse_trace(bytes, path);
+    // A regular file is read straight into one buffer of its size; a pipe
+    // (`--trace <(...)`, /dev/stdin) to its end, the memory budget checked
+    // each time the buffer has doubled.
+    TextInput kind{"trace", "a", "trace file", 1.0};
+    kind.text = false;
+    return parse_trace(read_text_input(path, kind), path);
 }
 
 }  // namespace raplas

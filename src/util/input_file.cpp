@@ -49,7 +49,7 @@ std::string read_text_input(const std::string& path, const TextInput& kind) {
             throw InputError(path + ": cannot read " + kind.noun + ": " + std::strerror(errno));
         }
         if (n == 0) break;
-        if (std::memchr(buf, '\0', std::size_t(n)))
+        if (kind.text && std::memchr(buf, '\0', std::size_t(n)))
             throw InputError(path + ": not a text " + kind.noun + " (contains NUL bytes)");
         text.append(buf, std::size_t(n));
         if (text.size() >= next_check) {

@@ -2,9 +2,15 @@
 // determinism across thread counts.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <csignal>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -13,6 +19,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "raplas/app/image_io.hpp"
@@ -108,6 +115,61 @@ TEST_F(Cli, ProgressLinesForTheFrontEndAndTheModelChangeNoResult) {
     const RunResult render = run(plus({"render", "--progress", "-q", "-o", "p.png"}, small));
     ASSERT_EQ(render.code, 0) << render.err;
     EXPECT_THAT(render.err, HasSubstr("front end shadow ray groups"));
+}
+
+// simulate --trace reads a pipe (a FIFO here, as `--trace <(...)` gives) to
+// its end: the same JSON as from the file; a pipe that ends early is one line,
+// exit 2, and no result file.
+TEST_F(Cli, SimulateReadsATraceFromAPipe) {
+    const RunResult t = run({"trace", "-q", "-o", "t.trace", "--set", "image.width=24", "--set", "image.height=16"});
+    ASSERT_EQ(t.code, 0) << t.err;
+    const std::string bytes = slurp(dir / "t.trace");
+    const RunResult f = run({"simulate", "-q", "--trace", "t.trace", "--json", "file.json"});
+    ASSERT_EQ(f.code, 0) << f.err;
+    auto through_fifo = [&](const std::string& name, const std::string& content, const std::string& json) {
+        const fs::path fifo = dir / name;
+        EXPECT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+        // The writer waits for raplas to open the FIFO, but not past the run's
+        // end (a run that never opens it must not hang the test); a reader
+        // that stops early gives EPIPE, not SIGPIPE.
+        std::atomic<bool> ran{false};
+        void (*old_handler)(int) = std::signal(SIGPIPE, SIG_IGN);
+        std::thread writer([&] {
+            int fd = -1;
+            while (fd < 0 && !ran) {
+                fd = ::open(fifo.c_str(), O_WRONLY | O_NONBLOCK);  // ENXIO until a reader opens it
+                if (fd < 0) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+            }
+            if (fd < 0) return;
+            ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+            for (std::size_t done = 0; done < content.size();) {
+                const ssize_t w = ::write(fd, content.data() + done, content.size() - done);
+                if (w <= 0) break;
+                done += std::size_t(w);
+            }
+            ::close(fd);
+        });
+        const RunResult r = run({"simulate", "-q", "--trace", fifo.string(), "--json", json});
+        ran = true;
+        writer.join();
+        std::signal(SIGPIPE, old_handler);
+        return r;
+    };
+    const RunResult p = through_fifo("t.fifo", bytes, "pipe.json");
+    ASSERT_EQ(p.code, 0) << p.err;
+    EXPECT_EQ(p.err, "");
+    auto drop_wall = [](nlohmann::json j) {
+        j.erase("wall");
+        return j;
+    };
+    EXPECT_EQ(drop_wall(nlohmann::json::parse(slurp(dir / "pipe.json"))),
+              drop_wall(nlohmann::json::parse(slurp(dir / "file.json"))));
+    const RunResult cut = through_fifo("cut.fifo", bytes.substr(0, bytes.size() / 2), "cut.json");
+    EXPECT_EQ(cut.code, 2);
+    EXPECT_THAT(cut.err, AllOf(StartsWith("raplas: error: " + (dir / "cut.fifo").string() + ": truncated trace"),
+                               Not(HasSubstr("\n\n"))));
+    EXPECT_EQ(std::count(cut.err.begin(), cut.err.end(), '\n'), 1) << cut.err;
+    EXPECT_FALSE(fs::exists(dir / "cut.json"));
 }
 
 TEST_F(Cli, VersionAndHelp) {
