@@ -1,7 +1,6 @@
 #include "raplas/app/image_io.hpp"
 
 #include <dlfcn.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -30,11 +29,8 @@ constexpr const char* kModuleName = "raplas_oiio.so";
 
 std::vector<std::string> module_candidates() {
     std::vector<std::string> paths;
-    char buf[4096];
-    const ssize_t n = ::readlink("/proc/self/exe", buf, sizeof buf - 1);
-    if (n > 0) {
-        const std::string exe(buf, std::size_t(n));
-        const std::string dir = exe.substr(0, exe.find_last_of('/') + 1);
+    const std::string dir = executable_dir();
+    if (!dir.empty()) {
         paths.push_back(dir + RAPLAS_LIB_FROM_BIN + "/" + kModuleName);
         paths.push_back(dir + kModuleName);
     }

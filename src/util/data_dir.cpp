@@ -2,7 +2,6 @@
 
 #include <dirent.h>
 #include <sys/stat.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
@@ -53,11 +52,9 @@ std::vector<std::string> search_dirs(const std::string& folder) {
 
 std::vector<std::string> data_dirs() {
     std::vector<std::string> dirs;
-    char buf[4096];
-    const ssize_t n = ::readlink("/proc/self/exe", buf, sizeof buf - 1);
-    if (n > 0) {
-        const std::string exe(buf, std::size_t(n));
-        const std::string installed = exe.substr(0, exe.find_last_of('/') + 1) + RAPLAS_DATA_FROM_BIN;
+    const std::string exe_dir = executable_dir();
+    if (!exe_dir.empty()) {
+        const std::string installed = exe_dir + RAPLAS_DATA_FROM_BIN;
         if (is_dir(installed)) dirs.push_back(absolute_path(installed));
     }
     const std::string source = RAPLAS_SOURCE_DIR;

@@ -1,6 +1,7 @@
 #include "raplas/util/files.hpp"
 
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstdio>
@@ -54,6 +55,14 @@ std::string file_hash(const std::string& path) {
 
 std::string absolute_path(const std::string& path) {
     return std::filesystem::absolute(path).lexically_normal().string();
+}
+
+std::string executable_dir() {
+    char buf[4096];
+    const ssize_t n = ::readlink("/proc/self/exe", buf, sizeof buf - 1);
+    if (n <= 0) return "";
+    const std::string exe(buf, std::size_t(n));
+    return exe.substr(0, exe.find_last_of('/') + 1);
 }
 
 }  // namespace raplas

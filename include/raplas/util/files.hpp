@@ -1,5 +1,5 @@
 // Small file helpers shared across layers: is a path a regular file, read a
-// whole file, hash one, make a path absolute.
+// whole file, hash one, make a path absolute, the executable's folder.
 #pragma once
 
 #include <cstdint>
@@ -16,5 +16,7 @@ std::uint64_t fnv1a64(std::string_view bytes, std::uint64_t h = 0xcbf29ce4842223
 std::string hex64(std::uint64_t h);
 std::string file_hash(const std::string& path);
 std::string absolute_path(const std::string& path);  // absolute and normalised
+// The running executable's folder with a trailing '/' ("" when unknown).
+std::string executable_dir();
 
 }  // namespace raplas
