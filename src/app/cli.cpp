@@ -1,6 +1,7 @@
 #include "raplas/app/cli.hpp"
 
 #include "commands.hpp"
+#include "config.hpp"
 #include "memory_checks.hpp"
 #include "shard.hpp"
 
@@ -142,7 +143,22 @@ bool SceneOptions::load(Scene& out, double& load_s, const std::function<void(Par
     if (!scene.empty() && !mesh.empty()) throw UsageError("give either --scene or --mesh, not both");
     ParamSet p = scene_params();
     if (!scene.empty()) p.load_file(find_scene_file(scene));
-    for (const auto& s : sets) p.set(s);
+    for (const auto& s : sets) {
+        try {
+            p.set(s);
+        } catch (const InputError&) {
+            // simulate and sweep route machine keys away before this; render and trace take none.
+            const ParamSet machine = model::machine_params();
+            const std::string key = s.substr(0, s.find('='));
+            const std::vector<std::string> leaf = key.find('.') == std::string::npos ? machine.keys_with_leaf(key)
+                                                                                    : std::vector<std::string>{};
+            if (machine.has(key) || leaf.size() == 1)
+                throw UsageError("--set " + (leaf.size() == 1 ? leaf[0] : key) +
+                                 ": a machine config key; render and trace take scene keys only (raplas simulate "
+                                 "and raplas sweep take both)");
+            throw;
+        }
+    }
     if (adjust) adjust(p);
     out = scene_from_params(p, mesh);
     if (dump_scene) {  // what was chosen automatically, as values that can be pasted into a scene file

@@ -198,6 +198,10 @@ TEST_F(Cli, UsageErrorsExitTwo) {
 }
 
 TEST_F(Cli, BadInputsExitTwoWithOneLineNamingTheFileOrKey) {
+    // A machine config key given to render or trace says where it belongs.
+    expect_input_error({"render", "--set", "icc.rti_pipes=2"}, "--set icc.rti_pipes: a machine config key");
+    expect_input_error({"trace", "--out", "t.trace", "--set", "rti_pipes=2"}, "--set icc.rti_pipes: a machine config key");
+    expect_input_error({"render", "--set", "image.widht=2"}, "unknown scene key 'image.widht'");
     const std::string missing = (dir / "missing_scene.toml").string();
     expect_input_error({"render", "--scene", missing}, missing);
     expect_input_error({"render", "--set", "nosuch.key=1"}, "nosuch.key");
