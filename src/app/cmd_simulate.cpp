@@ -154,34 +154,6 @@ int cmd_simulate(const SimulateArgs& a) {
     const Provenance provenance =
         make_provenance(named, mp, trace, cfg.icc.decoder.select == model::TriangleSelect::any);
     const WorkloadFacts facts = workload_facts(trace, result);
-    if (sharded) {
-        PartialInput pi;
-        pi.shard = shard;
-        pi.result = &result;
-        pi.memory = &memory;
-        pi.workload = &facts;
-        pi.provenance = &provenance;
-        pi.config_name = config_name;
-        pi.scene_name = scene_name;
-        pi.machine_config = mp.dump();
-        pi.frontend_wall_s = frontend_s;
-        const nlohmann::json part = partial_json(pi);
-        write_file_atomically(a.json, part.dump(2) + "\n");
-        if (!so.quiet) std::cout << shard_summary(pi, a.json);
-        if (result.functional_checked && !result.functional_match) {
-            // The same line as a whole run's, from the same report of the mismatch.
-            SimReportInput in;
-            in.result = &result;
-            in.config = &cfg;
-            in.workload = &facts;
-            const nlohmann::json j = sim_json(in);
-            std::cerr << "raplas: error: functional mismatch in shard " << shard.index << "/" << shard.count << ": "
-                      << result.rays_mismatched << " of " << result.rays_checked
-                      << " rays differ from the front end; first: " << describe_mismatch(j["first_mismatch"]) << "\n";
-            return kExitInternalError;
-        }
-        return 0;
-    }
     SimReportInput in;
     in.provenance = &provenance;
     in.result = &result;
@@ -191,6 +163,20 @@ int cmd_simulate(const SimulateArgs& a) {
     in.scene_name = scene_name;
     in.frontend_wall_s = frontend_s;
     in.memory = &memory;
+    if (sharded) {
+        const PartialInput pi{shard, in, mp.dump()};
+        write_file_atomically(a.json, partial_json(pi).dump(2) + "\n");
+        if (!so.quiet) std::cout << shard_summary(pi, a.json);
+        if (result.functional_checked && !result.functional_match) {
+            // The same line as a whole run's, from the same report of the mismatch.
+            const nlohmann::json j = sim_json(in);
+            std::cerr << "raplas: error: functional mismatch in shard " << shard.index << "/" << shard.count << ": "
+                      << result.rays_mismatched << " of " << result.rays_checked
+                      << " rays differ from the front end; first: " << describe_mismatch(j["first_mismatch"]) << "\n";
+            return kExitInternalError;
+        }
+        return 0;
+    }
     nlohmann::json j = sim_json(in);
     if (!a.json.empty()) write_file_atomically(a.json, j.dump(2) + "\n");
     if (!a.csv.empty()) write_file_atomically(a.csv, sim_csv_header() + sim_csv_row(j));

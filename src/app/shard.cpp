@@ -326,18 +326,19 @@ void check_shardable(const model::SimConfig& cfg, const std::string& option) {
 }
 
 json partial_json(const PartialInput& in) {
-    const Provenance& p = *in.provenance;
-    const WorkloadFacts& w = *in.workload;
-    const model::MemoryStats& m = *in.memory;
+    const SimReportInput& r = in.report;
+    const Provenance& p = *r.provenance;
+    const WorkloadFacts& w = *r.workload;
+    const model::MemoryStats& m = *r.memory;
     json j;
     j["raplas_partial"] = kPartialFormat;
     j["raplas_version"] = RAPLAS_VERSION;
     j["shard"] = in.shard.index;
     j["shards"] = in.shard.count;
     j["assignment"] = kAssignment;
-    j["passes"] = in.result->host.passes;
-    j["scene"] = in.scene_name;
-    j["config"] = in.config_name;
+    j["passes"] = r.result->host.passes;
+    j["scene"] = r.scene_name;
+    j["config"] = r.config_name;
     j["overrides"] = json::object();
     for (const auto& [k, v] : p.overrides) j["overrides"][k] = p.resolved_config[k];
     j["config_hash"] = p.config_hash;
@@ -354,21 +355,21 @@ json partial_json(const PartialInput& in) {
                      {"sphere_hits", w.counts.sphere_hits},
                      {"ray_triangle_tests", w.counts.rt_tests},
                      {"pairless_spheres", w.counts.pairless}};
-    j["result"] = result_json(*in.result, w);
+    j["result"] = result_json(*r.result, w);
     j["memory"] = {{"system", model::memory_system_name(m.system)},
                    {"sphere_records_read", m.sphere_records_read},
                    {"triangle_records_read", m.triangle_records_read},
                    {"memory_bound_cycles", m.memory_bound_cycles},
                    {"pe_bound_cycles", m.pe_bound_cycles}};
-    j["wall"] = {{"frontend_s", in.frontend_wall_s}, {"model_s", in.result->model_wall_s}};
+    j["wall"] = {{"frontend_s", r.frontend_wall_s}, {"model_s", r.result->model_wall_s}};
     return j;
 }
 
 std::string shard_summary(const PartialInput& in, const std::string& json_path) {
-    const model::SimResult& r = *in.result;
+    const model::SimResult& r = *in.report.result;
     char buf[512];
     std::snprintf(buf, sizeof buf, "%s on %s, shard %u/%u: %zu of %llu passes, %llu cycles; partial result %s (raplas merge adds up the shards)\n",
-                  in.config_name.c_str(), in.scene_name.c_str(), in.shard.index, in.shard.count, r.pass_cycles.size(),
+                  in.report.config_name.c_str(), in.report.scene_name.c_str(), in.shard.index, in.shard.count, r.pass_cycles.size(),
                   (unsigned long long)r.host.passes, (unsigned long long)r.total_cycles, json_path.c_str());
     return buf;
 }

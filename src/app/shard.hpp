@@ -32,13 +32,8 @@ void check_shardable(const model::SimConfig& cfg, const std::string& option);
 // The partial result of one shard (simulate --shard I/N --json).
 struct PartialInput {
     ShardSpec shard;
-    const model::SimResult* result = nullptr;
-    const model::MemoryStats* memory = nullptr;
-    const WorkloadFacts* workload = nullptr;
-    const Provenance* provenance = nullptr;
-    std::string config_name, scene_name;
+    SimReportInput report;       // what a whole run reports from (result, memory, workload, provenance, names)
     std::string machine_config;  // the resolved machine config as TOML (ParamSet::dump)
-    double frontend_wall_s = 0;
 };
 nlohmann::json partial_json(const PartialInput& in);
 // What a shard prints on stdout: one line.
