@@ -5,6 +5,7 @@
 #include <cmath>
 #include <functional>
 #include <queue>
+#include <utility>
 
 #include "raplas/util/error.hpp"
 
@@ -18,20 +19,24 @@ const char* memory_system_name(MemorySystem s) {
     }
 }
 
+GroupWork group_work(const Trace& t, const TraceGroup& g, bool primary, TriangleSelect select) {
+    GroupWork w;
+    w.primary = primary;
+    for (const SphereHitRec& h : g.sphere_hits) {
+        const std::uint64_t n = t.tri_count[h.sphere];
+        w.triangles_needed += n;
+        w.rt_tests += std::uint64_t(__builtin_popcountll(h.rows)) * std::uint64_t(__builtin_popcountll(h.cols)) * n;
+    }
+    if (select == TriangleSelect::any)
+        for (const SphereRun& r : g.pairless)
+            for (std::uint32_t s = r.first; s < r.end(); ++s) w.pairless_triangles += t.tri_count[s];
+    w.triangles_needed += w.pairless_triangles;
+    return w;
+}
+
 std::vector<GroupWork> group_work(const Trace& t, TriangleSelect select) {
     std::vector<GroupWork> w(t.groups.size());
-    for (std::size_t g = 0; g < t.groups.size(); ++g) {
-        w[g].primary = g < t.primary_groups;
-        for (const SphereHitRec& h : t.groups[g].sphere_hits) {
-            const std::uint64_t n = t.tri_count[h.sphere];
-            w[g].triangles_needed += n;
-            w[g].rt_tests += std::uint64_t(__builtin_popcountll(h.rows)) * std::uint64_t(__builtin_popcountll(h.cols)) * n;
-        }
-        if (select == TriangleSelect::any)
-            for (const SphereRun& r : t.groups[g].pairless)
-                for (std::uint32_t s = r.first; s < r.end(); ++s) w[g].pairless_triangles += t.tri_count[s];
-        w[g].triangles_needed += w[g].pairless_triangles;
-    }
+    for (std::size_t g = 0; g < t.groups.size(); ++g) w[g] = group_work(t, t.groups[g], g < t.primary_groups, select);
     return w;
 }
 
@@ -155,36 +160,48 @@ namespace {
 
 // Streaming: the bounds with ideal PEs (one record per cycle on each link, every
 // pass streams all spheres and triangles) and with ideal links (each pass as
-// long as its slowest ICC's RTI work).
-void streaming_bounds(const Trace& t, const SimConfig& cfg, const SimResult& r, MemoryStats& st) {
-    const std::vector<GroupWork> w = group_work(t, cfg.icc.decoder.select);
+// long as its slowest ICC's RTI work, folded as the groups are released).
+void streaming_bounds(const Trace& t, const SimConfig& cfg, const SimResult& r, std::uint64_t pe_bound, MemoryStats& st) {
     const std::uint64_t S = t.spheres.size(), T = t.triangles.size();
     st.sphere_records_read = r.sphere_link.records_sent;
     st.triangle_records_read = r.triangle_link.records_sent;
     st.memory_bound_cycles = r.host.passes * std::max(S, T);
-    const std::uint32_t k = cfg.iccs;
-    for (std::size_t from : {std::size_t(0), std::size_t(t.primary_groups)}) {
-        const std::size_t to = from == 0 ? t.primary_groups : w.size();
-        for (std::size_t b = from; b < to; b += k) {
-            std::uint64_t m = 0;
-            for (std::size_t g = b; g < std::min(to, b + k); ++g) m = std::max(m, group_rti_cycles(w[g], cfg));
-            st.pe_bound_cycles += m;
-        }
-    }
+    st.pe_bound_cycles = pe_bound;
     st.area = machine_area(cfg, area_workload(t, cfg));
 }
 
 }  // namespace
 
-SimResult simulate_system(const Trace& t, const SimConfig& cfg, MemoryStats& stats, const SimOptions& opt) {
-    check_trace_reading(t, cfg);
-    if (cfg.memory.system == MemorySystem::streaming) {
-        SimResult r = simulate(t, cfg, opt);
-        stats = MemoryStats{};
-        if (!r.error.empty()) return r;  // the caller reports it
-        streaming_bounds(t, cfg, r, stats);
+SimResult simulate_system(GroupSource& groups, const SimConfig& cfg, MemoryStats& stats, const SimOptions& opt) {
+    if (cfg.memory.system != MemorySystem::streaming) {
+        if (!groups.total_known()) throw std::logic_error("simulate_system: a baseline memory system needs the whole trace");
+        SimResult r = simulate_system(groups.header(), cfg, stats, opt);
+        if (r.error.empty()) groups.release(groups.total_groups());  // the observers see every group
         return r;
     }
+    const Trace& t = groups.header();
+    check_trace_reading(t, cfg);
+    // The PE bound: each pass's slowest group, passes of k groups in each phase.
+    const std::uint32_t k = cfg.iccs, primary = t.primary_groups;
+    std::uint64_t pe_bound = 0, pass_max = 0;
+    groups.observers.push_back([&, k, primary](std::size_t i, const TraceGroup& g) {
+        if ((i < primary ? i : i - primary) % k == 0) pe_bound += std::exchange(pass_max, 0);
+        pass_max = std::max(pass_max, group_rti_cycles(group_work(t, g, i < primary, cfg.icc.decoder.select), cfg));
+    });
+    SimResult r = simulate(groups, cfg, opt);
+    groups.observers.pop_back();
+    stats = MemoryStats{};
+    if (!r.error.empty()) return r;  // the caller reports it
+    streaming_bounds(t, cfg, r, pe_bound + pass_max, stats);
+    return r;
+}
+
+SimResult simulate_system(const Trace& t, const SimConfig& cfg, MemoryStats& stats, const SimOptions& opt) {
+    if (cfg.memory.system == MemorySystem::streaming) {
+        TraceSource source(t);
+        return simulate_system(source, cfg, stats, opt);
+    }
+    check_trace_reading(t, cfg);
     if (opt.shards > 1)
         throw InputError(std::string("memory.system = ") + memory_system_name(cfg.memory.system) +
                          " is computed from the whole workload: it has no shards");

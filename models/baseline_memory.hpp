@@ -28,6 +28,8 @@ struct GroupWork {
     bool primary = true;
 };
 std::vector<GroupWork> group_work(const Trace& t, TriangleSelect select = TriangleSelect::both);
+// ... of one group of trace t (only t's spheres are read).
+GroupWork group_work(const Trace& t, const TraceGroup& g, bool primary, TriangleSelect select);
 // An ICC's Ray-Triangle Intersector time for a group (memory.pe = rti, and
 // the streaming machine's PE bound): its tests over the pipes, plus
 // icc.rdf_empty_cycles for each triangle with no pair.
@@ -56,5 +58,8 @@ SimResult baseline_result(const Trace& t, const SimConfig& cfg, MemoryStats& sta
 // one-ICC streaming run a distributed system with stream fetch needs), the
 // closed form for the baselines. One call per process (SystemC).
 SimResult simulate_system(const Trace& t, const SimConfig& cfg, MemoryStats& stats, const SimOptions& opt = {});
+// The same with the groups from a source (a stream from the front end); the
+// baselines need the whole trace (a source whose total is known).
+SimResult simulate_system(GroupSource& groups, const SimConfig& cfg, MemoryStats& stats, const SimOptions& opt = {});
 
 }  // namespace raplas::model

@@ -60,7 +60,7 @@ const Top::BoundSchedule& Top::bound_schedule(std::uint32_t n) {
 }
 
 std::uint64_t Top::run_pass_bound(const Host::Pass& p) {
-    const std::uint32_t n = trace_.groups[p.begin].n;
+    const std::uint32_t n = groups_.group(p.begin).n;
     const BoundSchedule& b = bound_schedule(n);
     const std::uint32_t pipes = cfg_.icc.rti.pipes, stages = cfg_.icc.rti.stages;
     const std::uint32_t empty_cycles = cfg_.icc.fetcher.empty_cycles;
@@ -77,7 +77,7 @@ std::uint64_t Top::run_pass_bound(const Host::Pass& p) {
         FetcherQueue& back = backs[gi - p.begin];
         // The spheres the Decoder queues, in stream order; each triangle is
         // selected in the cycle it is sent.
-        const TraceGroup& g = trace_.groups[gi];
+        const TraceGroup& g = groups_.group(gi);
         KeptSpheres kept(g.sphere_hits, keep_pairless ? &g.pairless : nullptr);
         while (kept.next()) {
             const std::uint64_t m = std::uint64_t(__builtin_popcountll(kept.rows)) * std::uint64_t(__builtin_popcountll(kept.cols));

@@ -49,7 +49,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     std::vector<Icc*> active;
     for (std::size_t k = 0; k < iccs.size(); ++k) {
         const std::uint32_t gi = p.begin + std::uint32_t(k);
-        const TraceGroup* g = gi < p.end ? &trace_.groups[gi] : nullptr;
+        const TraceGroup* g = gi < p.end ? &groups_.group(gi) : nullptr;
         iccs[k].start_pass(g, buf, cfg_.overlap_passes);
         if (g) active.push_back(&iccs[k]);
     }

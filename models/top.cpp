@@ -22,7 +22,7 @@ struct Top::Vcd {
     std::vector<std::uint32_t> sphere_fifo, planeid_fifo, triangle_fifo, rti_inflight, decided;
 };
 
-Top::Top(sc_core::sc_module_name n, const SimConfig& cfg, const Trace& trace, const Functional& f,
+Top::Top(sc_core::sc_module_name n, const SimConfig& cfg, GroupSource& groups, const Functional& f,
          const SimOptions& opt)
     : sc_core::sc_module(n),
       host("host", Host::Params{cfg.iccs, cfg.pass_overhead_cycles, cfg.overlap_passes}),
@@ -32,7 +32,8 @@ Top::Top(sc_core::sc_module_name n, const SimConfig& cfg, const Trace& trace, co
       triangle_link("triangle_stream_link", StreamLink::Params{cfg.triangle_record_bytes}),
       iccs("icc"),
       cfg_(cfg),
-      trace_(trace),
+      groups_(groups),
+      trace_(groups.header()),
       functional_(f),
       opt_(opt),
       period_(1.0e6 / cfg.clock_mhz, sc_core::SC_PS) {
@@ -40,14 +41,14 @@ Top::Top(sc_core::sc_module_name n, const SimConfig& cfg, const Trace& trace, co
     if (cfg.fault == Fault::stuck_rti) iccs[cfg.fault_icc].rti.set_stuck(true);
     if (cfg.fault == Fault::stuck_psi) iccs[cfg.fault_icc].psi.set_stuck(true);
     if (cfg.fault == Fault::wrong_rti) iccs[cfg.fault_icc].inject_wrong_rti();
-    std::vector<SphereRecord> srec(trace.spheres.size());
-    std::vector<std::uint32_t> sphere_of(trace.triangles.size());
-    for (std::size_t s = 0; s < trace.spheres.size(); ++s) {
-        srec[s] = {trace.spheres[s], trace.first_tri[s], trace.tri_count[s]};
-        for (std::uint32_t t = 0; t < trace.tri_count[s]; ++t) sphere_of[trace.first_tri[s] + t] = std::uint32_t(s);
+    std::vector<SphereRecord> srec(trace_.spheres.size());
+    std::vector<std::uint32_t> sphere_of(trace_.triangles.size());
+    for (std::size_t s = 0; s < trace_.spheres.size(); ++s) {
+        srec[s] = {trace_.spheres[s], trace_.first_tri[s], trace_.tri_count[s]};
+        for (std::uint32_t t = 0; t < trace_.tri_count[s]; ++t) sphere_of[trace_.first_tri[s] + t] = std::uint32_t(s);
     }
     sphere_memory.load(std::move(srec));
-    triangle_memory.load(trace.triangles, std::move(sphere_of));
+    triangle_memory.load(trace_.triangles, std::move(sphere_of));
     if (opt_.shards == 0 || opt_.shard >= opt_.shards) throw InputError("shard index out of range");
     if (opt_.shards > 1 && (cfg.overlap_passes || cfg.estimate == Estimate::sample_passes || !opt_.vcd_path.empty()))
         throw InputError("a shard of the passes needs independent passes: no host.overlap_passes, sim.estimate = "
@@ -202,7 +203,7 @@ std::uint64_t Top::run_pass(const Host::Pass& p, std::uint8_t buf) {
     std::vector<Icc*> active, draining;
     for (std::size_t k = 0; k < iccs.size(); ++k) {
         const std::uint32_t gi = p.begin + std::uint32_t(k);
-        const TraceGroup* g = gi < p.end ? &trace_.groups[gi] : nullptr;
+        const TraceGroup* g = gi < p.end ? &groups_.group(gi) : nullptr;
         iccs[k].start_pass(g, buf, cfg_.overlap_passes);
         if (g) active.push_back(&iccs[k]);
         else if (!iccs[k].drained()) draining.push_back(&iccs[k]);  // the previous pass's work (overlap)
@@ -267,7 +268,7 @@ void Top::end_pass(const Host::Pass& p) {
 
 void Top::check_pass(const Host::Pass& p, std::uint8_t buf) {
     for (std::size_t k = 0; k < p.end - p.begin; ++k) {
-        const TraceGroup& g = trace_.groups[p.begin + k];
+        const TraceGroup& g = groups_.group(p.begin + k);
         const std::vector<Hit>& hits = iccs[k].results(g, buf);
         if (functional_.mode() != FunctionalMode::compute) continue;
         for (std::uint32_t v = 0; v < g.n; ++v)
@@ -278,14 +279,17 @@ void Top::check_pass(const Host::Pass& p, std::uint8_t buf) {
                 if (mine == g.hits[v * g.n + h]) continue;
                 ++result_.rays_mismatched;
                 if (!result_.first_mismatch)
-                    result_.first_mismatch = SimResult::Mismatch{p.begin + k, h, v, mine, g.hits[v * g.n + h]};
+                    result_.first_mismatch = SimResult::Mismatch{p.begin + k, h, v, mine, g.hits[v * g.n + h],
+                                                                 g.kind == GroupKind::primary, g.px, g.py};
             }
     }
 }
 
 void Top::preload(const Host::Pass& p, std::uint8_t buf) {
     const std::size_t n = p.end - p.begin;
-    parallel_for(n, default_threads(), [&](std::size_t k) { iccs[k].preload(&trace_.groups[p.begin + k], buf); });
+    std::vector<const TraceGroup*> g(n);
+    for (std::size_t k = 0; k < n; ++k) g[k] = &groups_.group(p.begin + k);
+    parallel_for(n, default_threads(), [&](std::size_t k) { iccs[k].preload(g[k], buf); });
 }
 
 std::vector<std::uint32_t> Top::choose_passes(const std::vector<Host::Pass>& passes) const {
@@ -321,13 +325,14 @@ std::vector<std::uint32_t> Top::choose_passes(const std::vector<Host::Pass>& pas
     return chosen;
 }
 
-void Top::place_wrong_rti(const std::vector<Host::Pass>& passes, const std::vector<std::uint32_t>& chosen) {
+bool Top::wrong_rti_decided(const Host::Pass& pass, bool chosen) {
     // The fault turns the first miss of the faulty ICC's RTI into a hit. The
     // pass it fires in is the first whose group on that ICC has a (ray,
     // triangle) pair that misses: the pairs are every triangle of a kept
     // sphere with the rays of its row and column masks, as the Ray Data
     // Fetcher issues them (which of them misses first is the pass's own
-    // business, simulated by whoever simulates that pass).
+    // business, simulated by whoever simulates that pass). Passes are asked
+    // in order until one decides.
     const std::uint32_t k = cfg_.fault_icc;
     auto has_miss = [&](const TraceGroup& g) {
         auto unit = functional_.make_unit();
@@ -342,12 +347,10 @@ void Top::place_wrong_rti(const std::vector<Host::Pass>& passes, const std::vect
                     }
         return false;
     };
-    for (std::uint32_t i = 0; i < passes.size(); ++i) {
-        const std::uint32_t gi = passes[i].begin + k;
-        if (gi >= passes[i].end || !has_miss(trace_.groups[gi])) continue;
-        if (!std::binary_search(chosen.begin(), chosen.end(), i)) iccs[k].disarm_wrong_rti();
-        return;
-    }
+    const std::uint32_t gi = pass.begin + k;
+    if (gi >= pass.end || !has_miss(groups_.group(gi))) return false;
+    if (!chosen) iccs[k].disarm_wrong_rti();
+    return true;
 }
 
 void Top::extrapolate(const std::vector<Host::Pass>& passes) {
@@ -375,8 +378,7 @@ void Top::extrapolate(const std::vector<Host::Pass>& passes) {
 
 void Top::run() {
     try {
-        const auto passes = host.plan(trace_.primary_groups, std::uint32_t(trace_.groups.size()));
-        run_passes(passes);
+        run_passes();
     } catch (const std::exception& e) {
         error_ = e.what();
     }
@@ -389,42 +391,82 @@ void Top::run() {
     wait();
 }
 
-void Top::run_passes(const std::vector<Host::Pass>& passes) {
+void Top::run_passes() {
     const bool bound = cfg_.estimate == Estimate::fifo_bound;
-    const std::vector<std::uint32_t> chosen = choose_passes(passes);
-    if (cfg_.fault == Fault::wrong_rti && opt_.shards > 1) place_wrong_rti(passes, chosen);
+    // The host's plan: the primary passes, and the shadow passes once the
+    // source knows how many groups there are (a stream: once the front end
+    // has traced every primary group). A plan of the primary passes alone is
+    // the whole plan's start, and so is the choice of passes in it.
+    std::vector<Host::Pass> passes;
+    std::vector<std::uint32_t> chosen;
+    bool planned_all = false;
+    auto source_stopped = [&] {
+        const std::string why = groups_.failure_message();
+        error_ = why.empty() ? "the ray groups ended early" : why;
+    };
+    auto make_plan = [&](bool all) {
+        planned_all = all;
+        passes = host.plan(trace_.primary_groups, all ? std::uint32_t(groups_.total_groups()) : trace_.primary_groups);
+        chosen = choose_passes(passes);
+    };
+    make_plan(groups_.total_known());
+    bool wrong_rti_pending = cfg_.fault == Fault::wrong_rti && opt_.shards > 1;
     std::uint64_t total = 0;
     // Pass i uses buffer i % 2. With overlapped passes a pass's results are
     // final once the next pass has ended (it waits for them to drain), or at
-    // the end of its phase.
-    const Host::Pass* unchecked = nullptr;
+    // the end of its phase; its groups are released once they are checked.
+    std::optional<Host::Pass> unchecked;
     std::uint8_t unchecked_buf = 0;
-    for (std::size_t ci = 0; ci < chosen.size(); ++ci) {
-        const std::size_t i = chosen[ci];
+    std::size_t ci = 0;  // passes simulated so far
+    for (std::size_t i = 0;; ++i) {
+        if (i == passes.size()) {
+            if (planned_all) break;
+            if (!groups_.wait_total()) {
+                source_stopped();
+                return;
+            }
+            make_plan(true);
+            if (i == passes.size()) break;
+        }
+        const Host::Pass pass = passes[i];
+        if (!groups_.wait_for(pass.end)) {
+            source_stopped();
+            return;
+        }
+        const bool is_chosen = ci < chosen.size() && chosen[ci] == i;
+        if (wrong_rti_pending && wrong_rti_decided(pass, is_chosen)) wrong_rti_pending = false;
+        if (!is_chosen) {
+            groups_.release(unchecked ? unchecked->begin : pass.end);
+            continue;
+        }
+        ++ci;
         const std::uint8_t buf = std::uint8_t(i % 2);
         current_pass_ = i;
         std::uint64_t c;
         if (bound) {  // closed form: nothing is simulated or checked
-            c = run_pass_bound(passes[i]);
+            c = run_pass_bound(pass);
             since_sync_ += c;
         } else {
             if (vcd_) vcd_->pass = std::uint32_t(i);
-            preload(passes[i], buf);
-            c = event_mode_ ? run_pass_event(passes[i], buf) : run_pass(passes[i], buf);
+            preload(pass, buf);
+            c = event_mode_ ? run_pass_event(pass, buf) : run_pass(pass, buf);
             if (!error_.empty()) break;  // the watchdog fired
             pass_len_ = c;
-            end_pass(passes[i]);
+            end_pass(pass);
             if (unchecked) check_pass(*unchecked, unchecked_buf);
-            unchecked = nullptr;
-            if (passes[i].drain) check_pass(passes[i], buf);
-            else unchecked = &passes[i], unchecked_buf = buf;
+            unchecked.reset();
+            if (pass.drain) check_pass(pass, buf);
+            else unchecked = pass, unchecked_buf = buf;
         }
+        groups_.release(unchecked ? unchecked->begin : pass.end);
         c += cfg_.pass_overhead_cycles;
         result_.pass_cycles.push_back(c);
         result_.pass_index.push_back(std::uint32_t(i));
         total += c;
-        if (opt_.progress) opt_.progress(ci + 1, chosen.size(), total);
+        if (opt_.progress) opt_.progress(ci, chosen.size(), total);
     }
+    if (!error_.empty()) return;
+    groups_.release(groups_.total_groups());
     for (auto& icc : iccs) icc.finish_run();
     if (since_sync_) wait(period_ * double(since_sync_));
     if (cfg_.pass_overhead_cycles) wait(period_ * double(cfg_.pass_overhead_cycles * chosen.size()));
@@ -440,14 +482,20 @@ void check_trace_reading(const Trace& t, const SimConfig& cfg, const std::string
 }
 
 SimResult simulate(const Trace& trace, const SimConfig& cfg, const SimOptions& opt) {
+    TraceSource source(trace);
+    return simulate(source, cfg, opt);
+}
+
+SimResult simulate(GroupSource& groups, const SimConfig& cfg, const SimOptions& opt) {
     sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
+    const Trace& trace = groups.header();
     // fifo_bound reads the sphere hits from the trace and tests nothing.
     const bool bound = cfg.estimate == Estimate::fifo_bound;
     const bool pairless = cfg.icc.decoder.select == TriangleSelect::any;
     check_trace_reading(trace, cfg);
     auto functional =
         Functional::create(trace, cfg.format, bound ? FunctionalMode::trace : cfg.functional, cfg.cull, pairless);
-    auto top = std::make_unique<Top>("raplas", cfg, trace, *functional, opt);
+    auto top = std::make_unique<Top>("raplas", cfg, groups, *functional, opt);
     auto t0 = std::chrono::steady_clock::now();
     sc_core::sc_start();
     SimResult r = top->result();

@@ -13,6 +13,7 @@
 #include "config.hpp"
 #include "host.hpp"
 #include "icc.hpp"
+#include "raplas/frontend/group_source.hpp"
 #include "memories.hpp"
 #include "stream_link.hpp"
 #include "watchdog.hpp"
@@ -52,6 +53,8 @@ struct SimResult {
         std::size_t group = 0;    // index in the trace
         std::uint32_t h = 0, v = 0;  // the ray in its group
         Hit model, frontend;
+        bool primary = true;      // the group's kind and pixel
+        std::int32_t px = 0, py = 0;
     };
     std::optional<Mismatch> first_mismatch;
     double model_wall_s = 0;  // wall time of the timing model alone
@@ -81,7 +84,8 @@ struct SimOptions {
 class Top : public sc_core::sc_module {
 public:
     SC_HAS_PROCESS(Top);
-    Top(sc_core::sc_module_name n, const SimConfig& cfg, const Trace& trace, const Functional& f,
+    // The groups come from `groups`, whose header must outlive the module.
+    Top(sc_core::sc_module_name n, const SimConfig& cfg, GroupSource& groups, const Functional& f,
         const SimOptions& opt);
     ~Top() override;
 
@@ -97,8 +101,9 @@ public:
 
 private:
     void run();
-    // Every pass (or a sample under sim.estimate = sample_passes), simulated.
-    void run_passes(const std::vector<Host::Pass>& passes);
+    // Every pass (or a sample under sim.estimate = sample_passes, or a
+    // shard's), simulated, each pass's groups released once checked.
+    void run_passes();
     // Pass p with its groups in Ray / Min-distance Memory buffer `buf`.
     std::uint64_t run_pass(const Host::Pass& p, std::uint8_t buf);
     std::uint64_t run_pass_event(const Host::Pass& p, std::uint8_t buf);
@@ -111,8 +116,10 @@ private:
     std::vector<std::uint32_t> choose_passes(const std::vector<Host::Pass>& passes) const;
     // sim.fault = wrong_rti when not every pass is simulated: the fault fires
     // at the first ray-triangle miss of the faulty ICC in the whole run; a
-    // run without that pass must not fire it in a later one.
-    void place_wrong_rti(const std::vector<Host::Pass>& passes, const std::vector<std::uint32_t>& chosen);
+    // run without that pass must not fire it in a later one. Asked of every
+    // pass in order: true when this pass decides (and the fault is disarmed
+    // when the pass is not simulated here).
+    bool wrong_rti_decided(const Host::Pass& pass, bool chosen);
     void extrapolate(const std::vector<Host::Pass>& passes);
     // The front end's figures of a pass that ended, and the results of a
     // pass whose groups have drained (Output Link; compared with the front
@@ -139,7 +146,8 @@ private:
     void sample_vcd(bool s_valid, bool s_stall, bool t_valid, bool t_stall);
 
     SimConfig cfg_;
-    const Trace& trace_;
+    GroupSource& groups_;
+    const Trace& trace_;  // the header: Sphere and Triangle Memory
     const Functional& functional_;
     SimOptions opt_;
     sc_core::sc_time period_;
@@ -193,5 +201,9 @@ void check_trace_reading(const Trace& t, const SimConfig& cfg, const std::string
 // Throws InputError for a configuration that cannot run before it starts; a
 // run the watchdog stops returns with SimResult::error set.
 SimResult simulate(const Trace& trace, const SimConfig& cfg, const SimOptions& opt = {});
+// The same with the groups taken from `groups` as the passes need them (and
+// released as they are checked): a stream from the front end holds only its
+// window.
+SimResult simulate(GroupSource& groups, const SimConfig& cfg, const SimOptions& opt = {});
 
 }  // namespace raplas::model

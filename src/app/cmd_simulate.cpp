@@ -4,7 +4,10 @@
 
 #include <chrono>
 #include <cstdio>
+#include <functional>
 #include <iostream>
+#include <memory>
+#include <thread>
 
 #include "baseline_memory.hpp"
 #include "commands.hpp"
@@ -13,6 +16,7 @@
 #include "raplas/app/progress.hpp"
 #include "raplas/app/sim_report.hpp"
 #include "shard.hpp"
+#include "raplas/frontend/group_source.hpp"
 #include "raplas/frontend/trace_io.hpp"
 #include "raplas/util/atomic_file.hpp"
 #include "raplas/util/data_dir.hpp"
@@ -20,6 +24,58 @@
 #include "raplas/util/files.hpp"
 
 namespace raplas {
+
+namespace {
+
+// The front end of a streamed simulation, on its own thread (which starts
+// the worker threads): its failure is kept as a message for the command and
+// handed to the stream, whose waits then stop. Joined on destruction, the
+// stream cancelled first so that no worker waits for room.
+class FrontEndThread {
+public:
+    FrontEndThread() = default;
+    FrontEndThread(const FrontEndThread&) = delete;
+    FrontEndThread& operator=(const FrontEndThread&) = delete;
+    ~FrontEndThread() {
+        if (!thread_.joinable()) return;
+        stream_->cancel();
+        thread_.join();
+    }
+    void start(GroupStream& stream, std::function<void()> body) {
+        stream_ = &stream;
+        thread_ = std::thread([this, body = std::move(body)] {
+            try {
+                body();
+            } catch (const GroupStream::Cancelled&) {
+                // the model stopped first and says why
+            } catch (const InputError& e) {
+                stop(e.what(), true);
+            } catch (const std::bad_alloc&) {
+                stop("out of memory", false);
+            } catch (const std::exception& e) {
+                stop(e.what(), false);
+            }
+        });
+    }
+    void join() {
+        if (thread_.joinable()) thread_.join();
+    }
+    const std::string& error() const { return error_; }
+    bool input_error() const { return input_; }
+
+private:
+    void stop(const std::string& what, bool input) {
+        error_ = what;
+        input_ = input;
+        stream_->fail(std::current_exception(), "front end: " + what);
+    }
+    GroupStream* stream_ = nullptr;
+    std::thread thread_;
+    std::string error_;
+    bool input_ = false;
+};
+
+}  // namespace
 
 std::string resolve_config(const std::string& c) {
     return find_named_file(c, {"config", "configs", "machine configs", "raplas simulate --dump-config"});
@@ -44,6 +100,14 @@ void add_simulate_options(CLI::App* cmd, SimulateArgs& a) {
                     "write the commands of a sharded run to FILE.traces (the trace, for a scene), FILE (one per shard) "
                     "and FILE.merge, for GNU parallel or a Slurm array, instead of simulating");
     cmd->add_option("--work-dir", a.work_dir, "with --emit-jobs: the trace and the shards' results (default: OUT.d)");
+    cmd->add_option("--window", a.window,
+                    "passes of ray groups the front end may trace ahead of the model (the groups in memory at once: "
+                    "this many times the ICC count; docs/MEMORY.md)")
+        ->check(CLI::Range(2u, 1000u))
+        ->capture_default_str();
+    cmd->add_flag("--whole-frame", a.whole_frame,
+                  "trace the whole frame before the model starts instead of streaming its groups (the same results; "
+                  "memory grows with the image)");
     cmd->add_flag("--dump-config", a.dump_config, "print the resolved machine config as TOML and exit");
     // --set goes to the machine config when it names a config key, else to the scene.
     cmd->remove_option(cmd->get_option("--set"));
@@ -93,8 +157,14 @@ int cmd_simulate(const SimulateArgs& a) {
     }
 
     auto t0 = clock::now();
-    Trace trace;
+    Trace trace;  // the whole trace, or (streamed) the header the stream copies
     std::string scene_name;
+    std::unique_ptr<GroupSource> source;
+    GroupStream* stream = nullptr;
+    std::unique_ptr<StreamProgress> stream_progress;
+    FrontEndThread frontend;  // (joined before the stream and the progress line go)
+    ProgressLine model_progress(so.show_progress(), ::isatty(2));
+    double frontend_s = 0;
     if (!a.trace.empty()) {
         if (!so.scene.empty() || !so.mesh.empty()) throw UsageError("give either --trace or --scene/--mesh, not both");
         struct stat st{};
@@ -121,39 +191,81 @@ int cmd_simulate(const SimulateArgs& a) {
         fo.record = true;
         fo.pairless = cfg.icc.decoder.select == model::TriangleSelect::any;
         check_model_up_front(cfg, scene);
-        check_front_end(FrontEndUse::simulate, scene, fo);
-        PhaseProgress progress(so.show_progress(), ::isatty(2));
-        fo.progress = std::ref(progress);
-        Frame frame = render_frame(scene, fo);
-        progress.finish();
-        trace = make_trace(scene, std::move(frame), cfg.format, fo.pairless);
-        scene_name = scene.name;
+        // The baselines are computed from the whole trace; the streaming
+        // machine takes the groups as the front end makes them.
+        const bool streamed = !a.whole_frame && cfg.memory.system == model::MemorySystem::streaming;
+        if (streamed) {
+            auto owned = std::make_unique<GroupStream>(std::size_t(a.window) * cfg.iccs);
+            stream = owned.get();
+            source = std::move(owned);
+            fo.stream = stream;
+            check_front_end(FrontEndUse::simulate_streamed, scene, fo, &cfg, a.window);
+            if (so.show_progress()) {
+                stream_progress = std::make_unique<StreamProgress>(::isatty(2));
+                fo.progress = [p = stream_progress.get()](const char* phase, std::size_t done, std::size_t total) {
+                    p->front_end(phase, done, total);
+                };
+            }
+            scene_name = scene.name;
+            frontend.start(*stream, [scene = std::move(scene), fo, t0, &frontend_s] {
+                render_frame(scene, fo);
+                frontend_s = std::chrono::duration<double>(clock::now() - t0).count();
+            });
+        } else {
+            check_front_end(FrontEndUse::simulate, scene, fo);
+            PhaseProgress progress(so.show_progress(), ::isatty(2));
+            fo.progress = std::ref(progress);
+            Frame frame = render_frame(scene, fo);
+            progress.finish();
+            trace = make_trace(scene, std::move(frame), cfg.format, fo.pairless);
+            scene_name = scene.name;
+        }
     }
-    const double frontend_s = std::chrono::duration<double>(clock::now() - t0).count();
-    check_model(cfg, trace);
+    if (!source) {
+        frontend_s = std::chrono::duration<double>(clock::now() - t0).count();
+        check_model(cfg, trace);
+        source = std::make_unique<TraceSource>(trace);
+    }
+    const Trace& header = source->header();
 
     model::SimOptions opt;
     opt.vcd_path = a.vcd;
     opt.shard = shard.index;
     opt.shards = shard.count;
-    ProgressLine model_progress(so.show_progress(), ::isatty(2));
-    if (so.show_progress()) {
+    if (stream_progress) {
+        opt.progress = [&](std::size_t done, std::size_t total, std::uint64_t cycles) {
+            stream_progress->model(done, total, cycles);
+        };
+    } else if (so.show_progress()) {
         opt.progress = [&](std::size_t done, std::size_t total, std::uint64_t cycles) {
             model_progress.draw(done, total, "model passes", ", " + std::to_string(cycles) + " cycles", done, total);
         };
     }
+    const bool pairless = cfg.icc.decoder.select == model::TriangleSelect::any;
+    WorkloadTally tally(header, pairless);
+    source->observers.push_back(tally.observer());
     model::MemoryStats memory;
-    const model::SimResult result = model::simulate_system(trace, cfg, memory, opt);
+    const model::SimResult result = model::simulate_system(*source, cfg, memory, opt);
+    if (stream_progress) stream_progress->finish();
     model_progress.finish();
+    if (stream) {
+        // The front end has handed over every group when the model ends well;
+        // else it is stopped. Its own failure is the one to report.
+        if (!result.error.empty()) stream->cancel();
+        frontend.join();
+        if (!frontend.error().empty()) {
+            std::cerr << "raplas: " << (frontend.input_error() ? "error: " : "internal error: ") << frontend.error() << "\n";
+            return frontend.input_error() ? kExitInputError : kExitInternalError;
+        }
+    }
     if (!result.error.empty()) {  // printed, not thrown: see SimResult::error
         const bool watchdog = result.error.rfind("watchdog", 0) == 0;
         std::cerr << (watchdog ? "raplas: error: " : "raplas: internal error: ") << InputError::printable(result.error)
                   << "\n";
         return watchdog ? kExitInputError : kExitInternalError;
     }
-    const Provenance provenance =
-        make_provenance(named, mp, trace, cfg.icc.decoder.select == model::TriangleSelect::any);
-    const WorkloadFacts facts = workload_facts(trace, result);
+    const Provenance provenance = make_provenance(named, mp, tally.hasher.value());
+    const WorkloadFacts facts = workload_facts(header, tally, result);
     SimReportInput in;
     in.provenance = &provenance;
     in.result = &result;

@@ -39,6 +39,8 @@ struct SimulateArgs {
     std::vector<std::string> config_sets;
     std::uint32_t iccs = 0;  // 0: from the config
     std::uint32_t fifo = 0;  // 0: from the config
+    std::uint32_t window = 4;  // passes the front end may trace ahead of the model
+    bool whole_frame = false;  // trace the whole frame first instead of streaming it
     bool dump_config = false;
 };
 

@@ -1,5 +1,7 @@
 #include "memory_checks.hpp"
 
+#include <algorithm>
+
 #include "memory_estimate.hpp"
 #include "raplas/frontend/memory_estimate.hpp"
 
@@ -7,22 +9,78 @@ namespace raplas {
 
 namespace {
 
+// The trace's shape known before the front end runs: no shadow groups.
+TraceShape model_shape_up_front(const Scene& s) {
+    TraceShape t;
+    t.triangles = s.mesh.triangle_count();
+    t.spheres = (t.triangles + std::uint64_t(s.tris_per_sphere) - 1) / std::uint64_t(s.tris_per_sphere);
+    t.group_size = std::uint32_t(s.group_size);
+    t.shadow_group_size = std::uint32_t(s.shadow_group_size);
+    const int n = s.group_size;
+    t.primary_groups = std::uint64_t((s.width + n - 1) / n) * std::uint64_t((s.height + n - 1) / n);
+    return t;
+}
+
 const char* command_name(FrontEndUse use) {
     switch (use) {
         case FrontEndUse::render: return "render";
         case FrontEndUse::trace_file: return "trace";
-        case FrontEndUse::simulate: break;
+        case FrontEndUse::simulate:
+        case FrontEndUse::simulate_streamed: break;
     }
     return "simulate";
 }
 
 }  // namespace
 
-void check_front_end(FrontEndUse use, const Scene& s, FrameOptions& fo) {
+void check_front_end(FrontEndUse use, const Scene& s, FrameOptions& fo, const model::SimConfig* model,
+                     std::uint32_t window_passes) {
     const char* command = command_name(use);
-    check_memory(command, frame_memory_up_front(s, fo));
     const Scene* scene = &s;
     const bool pairless = fo.pairless;
+    if (use == FrontEndUse::simulate_streamed) {
+        // The frame without its groups, the model (its shape without shadow
+        // groups, as check_model_up_front) and the window, up front; the
+        // shadow phase's arrays and a window of shadow groups before them
+        // (the model is resident by then).
+        // (A window never holds more groups than the frame has: the primary
+        // groups and at most one shadow group a pixel.)
+        const model::SimConfig c = *model;
+        const std::uint64_t window = std::uint64_t(window_passes) * c.iccs;
+        const TraceShape up_front = model_shape_up_front(s);
+        const std::uint64_t npix = std::uint64_t(s.width) * std::uint64_t(s.height);
+        std::vector<MemoryItem> items = frame_memory_up_front(s, fo);
+        for (auto& m : model::model_memory(c, up_front)) items.push_back(m);
+        items.push_back(stream_window_memory(std::min(window, up_front.primary_groups + npix),
+                                             std::uint32_t(std::max(s.group_size, s.shadow_group_size)), 0, 0));
+        check_memory(command, items);
+        GroupStream* stream = fo.stream;
+        const std::uint64_t primary = up_front.primary_groups;
+        fo.before_shadow = [command, scene, pairless, stream, window, primary, c, up_front](
+                               const Frame& f, std::size_t lit, const ShadowSample& sample) {
+            FrameOptions o;
+            o.record = true;
+            o.pairless = pairless;
+            o.stream = stream;
+            std::vector<MemoryItem> items = frame_memory_shadow(*scene, o, lit, sample);
+            items.push_back(stream_window_memory(std::min<std::uint64_t>(window, primary + lit),
+                                                 std::uint32_t(scene->shadow_group_size), sample.sphere_hits,
+                                                 pairless ? sample.pairless_runs : 0));
+            // What the model's group state and event lists grow by with the
+            // groups' sphere hits (its fixed part is resident by now).
+            auto sum = [](const std::vector<MemoryItem>& v) {
+                double b = 0;
+                for (const auto& m : v) b += m.bytes;
+                return b;
+            };
+            const double grown = sum(model::model_memory(c, trace_shape(*scene, f, lit, sample))) -
+                                 sum(model::model_memory(c, up_front));
+            items.push_back({"the model's group state for the sphere hits", std::max(0.0, grown)});
+            check_memory(command, items);
+        };
+        return;
+    }
+    check_memory(command, frame_memory_up_front(s, fo));
     fo.before_shadow = [use, command, scene, pairless](const Frame& f, std::size_t lit, const ShadowSample& sample) {
         FrameOptions o;
         o.record = use != FrontEndUse::render;
@@ -38,14 +96,7 @@ void check_front_end(FrontEndUse use, const Scene& s, FrameOptions& fo) {
 }
 
 void check_model_up_front(const model::SimConfig& c, const Scene& s) {
-    TraceShape t;
-    t.triangles = s.mesh.triangle_count();
-    t.spheres = (t.triangles + std::uint64_t(s.tris_per_sphere) - 1) / std::uint64_t(s.tris_per_sphere);
-    t.group_size = std::uint32_t(s.group_size);
-    t.shadow_group_size = std::uint32_t(s.shadow_group_size);
-    const int n = s.group_size;
-    t.primary_groups = std::uint64_t((s.width + n - 1) / n) * std::uint64_t((s.height + n - 1) / n);
-    check_memory("simulate", model::model_memory(c, t));
+    check_memory("simulate", model::model_memory(c, model_shape_up_front(s)));
 }
 
 void check_trace_read(const std::string& path, std::uint64_t bytes) {

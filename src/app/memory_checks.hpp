@@ -13,11 +13,16 @@
 
 namespace raplas {
 
-enum class FrontEndUse { render, trace_file, simulate };
+// simulate_streamed: `raplas simulate` with the groups streamed to the model
+// (FrameOptions::stream), which runs alongside.
+enum class FrontEndUse { render, trace_file, simulate, simulate_streamed };
 
 // Before render_frame; installs in `fo` the check before the shadow rays,
 // which also counts the trace (and its file buffer) the command will build.
-void check_front_end(FrontEndUse use, const Scene& s, FrameOptions& fo);
+// simulate_streamed: also the model (`model`) and a window of `window_passes`
+// passes of groups instead of the trace.
+void check_front_end(FrontEndUse use, const Scene& s, FrameOptions& fo, const model::SimConfig* model = nullptr,
+                     std::uint32_t window_passes = 0);
 
 // `raplas simulate` before the front end: the model for the scene's shape
 // without its shadow groups (a lower bound).

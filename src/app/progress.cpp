@@ -69,4 +69,32 @@ void PhaseProgress::finish() {
     line_.reset();
 }
 
+void StreamProgress::front_end(const char* phase, std::size_t done, std::size_t total) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    phase_ = phase;
+    fe_done_ = done;
+    fe_total_ = total;
+    if (tty_) draw();
+}
+
+void StreamProgress::model(std::size_t done, std::size_t total, std::uint64_t cycles) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    done_ = done;
+    total_ = total;
+    cycles_ = cycles;
+    draw();
+}
+
+void StreamProgress::draw() {
+    std::string extra = ", " + std::to_string(cycles_) + " cycles";
+    if (!phase_.empty())
+        extra += "; front end " + phase_ + " ray groups " + std::to_string(fe_done_) + "/" + std::to_string(fe_total_);
+    line_.draw(done_, total_, "model passes", extra, done_, total_);
+}
+
+void StreamProgress::finish() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    line_.finish();
+}
+
 }  // namespace raplas

@@ -138,7 +138,7 @@ nlohmann::json param_json(const ParamSet& p, const std::string& key) {
 
 }  // namespace
 
-Provenance make_provenance(ParamSet named, ParamSet resolved, const Trace& trace, bool pairless) {
+Provenance make_provenance(ParamSet named, ParamSet resolved, const std::string& workload_hash) {
     model::resolve_numerics(named);
     model::resolve_numerics(resolved);
     Provenance p;
@@ -149,7 +149,7 @@ Provenance make_provenance(ParamSet named, ParamSet resolved, const Trace& trace
         if (v != named.value_text(k)) p.overrides.emplace_back(k, v);
     }
     p.config_hash = config_hash(resolved);
-    p.workload_hash = workload_hash(trace, pairless);
+    p.workload_hash = workload_hash;
     return p;
 }
 
@@ -161,20 +161,19 @@ std::string config_hash(ParamSet resolved) {
     return hex64(fnv1a64(canonical));
 }
 
-WorkloadFacts workload_facts(const Trace& t, const model::SimResult& r) {
+WorkloadFacts workload_facts(const Trace& t, const WorkloadTally& tally, const model::SimResult& r) {
     WorkloadFacts w;
-    w.ray_groups = t.groups.size();
+    w.ray_groups = tally.groups;
     w.primary_groups = t.primary_groups;
     w.spheres = t.spheres.size();
     w.triangles = t.triangles.size();
     w.group_size = t.group_size;
     w.shadow_group_size = t.shadow_group_size;
-    w.counts = t.total_counts();
+    w.counts = tally.counts;
     if (r.first_mismatch) {
-        const TraceGroup& g = t.groups[r.first_mismatch->group];
-        w.mismatch_primary = g.kind == GroupKind::primary;
-        w.mismatch_px = g.px;
-        w.mismatch_py = g.py;
+        w.mismatch_primary = r.first_mismatch->primary;
+        w.mismatch_px = r.first_mismatch->px;
+        w.mismatch_py = r.first_mismatch->py;
     }
     return w;
 }

@@ -7,6 +7,7 @@
 #include <functional>
 #include <mutex>
 
+#include "raplas/frontend/group_source.hpp"
 #include "raplas/util/parallel.hpp"
 
 namespace raplas {
@@ -39,6 +40,15 @@ private:
     std::mutex mutex_;
     std::size_t last_ = 0;
 };
+// A streamed group's lists at their exact size (grown by push_back they may
+// hold twice that): the window's memory is what docs/MEMORY.md counts.
+TraceGroup fitted(TraceGroup g) {
+    g.sphere_hits.shrink_to_fit();
+    g.pairless.shrink_to_fit();
+    g.hits.shrink_to_fit();
+    return g;
+}
+
 double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -98,21 +108,23 @@ Frame render_frame(const Scene& scene, const FrameOptions& opt) {
     // Primary groups.
     t0 = clock::now();
     f.primary = primary_groups(scene);
-    f.primary_results.resize(f.primary.size());
-    GroupProgress primary_progress(opt, "primary", f.primary.size());
-    parallel_for(f.primary.size(), threads, [&](std::size_t i) {
-        tracer.trace(f.primary[i], f.primary_results[i], opt.record, opt.per_ray, opt.pairless);
-        primary_progress.one_done();
-    });
+    GroupStream* const stream = opt.stream;
+    if (stream) stream->set_header(trace_header(scene, f, opt.format, opt.pairless));
+    f.primary_results.resize(stream ? 0 : f.primary.size());
     f.pixel_ray.resize(npix);
     f.pixel_hit.assign(npix, Hit{});
     f.work_rt.assign(npix, 0);
     f.work_spheres.assign(npix, 0);
-    for (std::size_t i = 0; i < f.primary.size(); ++i) {
+    std::vector<GroupCounts> primary_counts(f.primary.size());
+    std::vector<std::size_t> primary_runs(f.primary.size());
+    GroupProgress primary_progress(opt, "primary", f.primary.size());
+    parallel_for(f.primary.size(), threads, [&](std::size_t i) {
+        if (stream) stream->acquire(i);
+        GroupResult local;
+        GroupResult& res = stream ? local : f.primary_results[i];
+        tracer.trace(f.primary[i], res, opt.record, opt.per_ray, opt.pairless);
+        // Each group writes its own pixels.
         const RayGroup& g = f.primary[i];
-        const GroupResult& res = f.primary_results[i];
-        f.primary_counts += res.counts;
-        f.primary_pairless_runs += res.pairless.size();
         for (std::uint32_t v = 0; v < g.n; ++v) {
             for (std::uint32_t h = 0; h < g.n; ++h) {
                 if (!g.ray_valid(h, v)) continue;
@@ -125,6 +137,14 @@ Frame render_frame(const Scene& scene, const FrameOptions& opt) {
                 }
             }
         }
+        primary_counts[i] = res.counts;
+        primary_runs[i] = res.pairless.size();
+        if (stream) stream->put(i, fitted(trace_group(std::move(f.primary[i]), std::move(local), opt.pairless)));
+        primary_progress.one_done();
+    });
+    for (std::size_t i = 0; i < f.primary.size(); ++i) {
+        f.primary_counts += primary_counts[i];
+        f.primary_pairless_runs += primary_runs[i];
     }
     if (!opt.record) f.primary_results.clear();
     f.times.primary_s = seconds_since(t0);
@@ -166,13 +186,16 @@ Frame render_frame(const Scene& scene, const FrameOptions& opt) {
         }
         opt.before_shadow(f, lit_pixels.size(), sample);
     }
-    std::vector<RayGroup> shadow(lit_pixels.size());
-    std::vector<GroupResult> shadow_res(lit_pixels.size());
+    if (stream) stream->set_total(f.primary.size() + lit_pixels.size());
+    const bool keep_shadow = opt.record && !stream;
+    std::vector<RayGroup> shadow(keep_shadow ? lit_pixels.size() : 0);
+    std::vector<GroupResult> shadow_res(keep_shadow ? lit_pixels.size() : 0);
     std::vector<GroupCounts> counts(lit_pixels.size());
     std::vector<float> direct(npix, 0.0f);
     const Vec3d light_n = scene.light.normal();
     GroupProgress shadow_progress(opt, "shadow", lit_pixels.size());
     parallel_for(lit_pixels.size(), threads, [&](std::size_t i) {
+        if (stream) stream->acquire(f.primary.size() + i);
         const std::size_t px = lit_pixels[i];
         const int x = int(px % std::size_t(scene.width)), y = int(px / std::size_t(scene.width));
         RayGroup g = shadow_group(scene, shadow_origin(scene, f.spheres, f.pixel_ray[px], f.pixel_hit[px]), x, y);
@@ -202,7 +225,9 @@ Frame render_frame(const Scene& scene, const FrameOptions& opt) {
             f.work_rt[px] += res.counts.rt_tests;
             f.work_spheres[px] += res.counts.sphere_hits;
         }
-        if (opt.record) {
+        if (stream) {
+            stream->put(f.primary.size() + i, fitted(trace_group(std::move(g), std::move(res), opt.pairless)));
+        } else if (keep_shadow) {
             shadow[i] = std::move(g);
             res.hits.shrink_to_fit();
             shadow_res[i] = std::move(res);
@@ -210,7 +235,7 @@ Frame render_frame(const Scene& scene, const FrameOptions& opt) {
         shadow_progress.one_done();
     });
     for (const auto& c : counts) f.shadow_counts += c;
-    if (opt.record) {
+    if (keep_shadow) {
         f.shadow = std::move(shadow);
         f.shadow_results = std::move(shadow_res);
     }

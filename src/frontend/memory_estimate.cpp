@@ -57,8 +57,13 @@ std::vector<MemoryItem> frame_memory_up_front(const Scene& s, const FrameOptions
     const std::uint64_t pg = groups_of(s.width, s.height, s.group_size);
     const std::uint32_t n = std::uint32_t(s.group_size);
     double per_group = double(sizeof(RayGroup) + sizeof(GroupResult)) + 2.0 * n * sizeof(Plane) + double(n) * n * sizeof(Hit);
+    if (o.stream) per_group = double(sizeof(RayGroup)) + sizeof(GroupCounts) + 8;  // planes and results go to the stream
     if (o.per_ray) per_group += double(n) * n * 8;
     items.push_back({"primary ray groups (" + count(pg) + ")", double(pg) * per_group});
+    if (o.stream) {
+        // The trace header's copy of the geometry.
+        items.push_back({"stream header", double(spheres) * (sizeof(Sphere) + 8) + double(tris) * (sizeof(TriangleRec) + 4)});
+    }
     return items;
 }
 
@@ -67,9 +72,11 @@ std::vector<MemoryItem> frame_memory_shadow(const Scene& s, const FrameOptions& 
     const std::uint64_t npix = std::uint64_t(s.width) * std::uint64_t(s.height);
     std::vector<MemoryItem> items;
     // The shadow phase's arrays, one slot per lit pixel, and the shading term.
+    const bool kept = o.record && !o.stream;
     items.push_back({"shadow phase (" + count(lit) + " lit pixels)",
-                     double(lit) * (8 + sizeof(RayGroup) + sizeof(GroupResult) + sizeof(GroupCounts)) + double(npix) * 4});
-    if (o.record) {
+                     double(lit) * (8 + (kept ? sizeof(RayGroup) + sizeof(GroupResult) : 0) + sizeof(GroupCounts)) +
+                         double(npix) * 4});
+    if (kept) {
         const std::uint32_t ns = std::uint32_t(s.shadow_group_size);
         items.push_back({"shadow ray groups recorded (" + count(lit) + ")",
                          double(lit) * (recorded_group_bytes(ns) - sizeof(RayGroup) - sizeof(GroupResult) +
@@ -77,6 +84,12 @@ std::vector<MemoryItem> frame_memory_shadow(const Scene& s, const FrameOptions& 
                                         (o.pairless ? per_group.pairless_runs * sizeof(SphereRun) : 0.0))});
     }
     return items;
+}
+
+MemoryItem stream_window_memory(std::uint64_t groups, std::uint32_t n, double sphere_hits, double pairless_runs) {
+    return {"stream window (" + count(groups) + " ray groups)",
+            double(groups) * (trace_group_bytes(n, false) + sphere_hits * sizeof(SphereHitRec) +
+                              pairless_runs * sizeof(SphereRun))};
 }
 
 TraceShape trace_shape(const Scene& s, const Frame& f, std::uint64_t lit, const ShadowSample& per_group) {

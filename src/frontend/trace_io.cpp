@@ -122,10 +122,51 @@ GroupCounts Trace::total_counts() const {
 
 namespace {
 
-// From a non-const frame, each group's records and hits are moved out and
-// the group's memory freed as it goes.
+// From a non-const group and result, the records and hits are moved out and
+// their memory freed.
+template <class G, class R>
+TraceGroup trace_group_impl(G& g, R& r, bool pairless) {
+    TraceGroup tg;
+    tg.kind = g.kind;
+    tg.n = g.n;
+    tg.px = g.px;
+    tg.py = g.py;
+    tg.origin = g.origin;
+    tg.tmax = g.tmax;
+    tg.row_valid = g.row_valid;
+    tg.col_valid = g.col_valid;
+    tg.planes = g.planes;
+    tg.grid_corner = g.grid_corner;  // directions computed on use: 72 bytes instead of 12 N^2
+    tg.du = g.du;
+    tg.dv = g.dv;
+    tg.counts = r.counts;
+    if (!pairless) tg.counts.pairless = 0;  // a trace for the row-and-column reading only
+    if constexpr (std::is_const_v<R>) {
+        tg.sphere_hits = r.sphere_list;
+        if (pairless) tg.pairless = r.pairless;
+        tg.hits = r.hits;
+    } else {
+        tg.sphere_hits = std::move(r.sphere_list);
+        if (pairless) tg.pairless = std::move(r.pairless);
+        tg.hits = std::move(r.hits);
+        r = GroupResult{};
+        g.planes = std::vector<Plane>{};
+    }
+    return tg;
+}
+
 template <class FrameRef>
 Trace make_trace_impl(const Scene& scene, FrameRef& f, const NumFormat& format, bool pairless) {
+    Trace t = trace_header(scene, f, format, pairless);
+    t.groups.reserve(f.primary.size() + f.shadow.size());
+    for (std::size_t i = 0; i < f.primary.size(); ++i) t.groups.push_back(trace_group_impl(f.primary[i], f.primary_results.at(i), pairless));
+    for (std::size_t i = 0; i < f.shadow.size(); ++i) t.groups.push_back(trace_group_impl(f.shadow[i], f.shadow_results.at(i), pairless));
+    return t;
+}
+
+}  // namespace
+
+Trace trace_header(const Scene& scene, const Frame& f, const NumFormat& format, bool pairless) {
     Trace t;
     t.scene_name = scene.name;
     t.format = format;
@@ -141,42 +182,10 @@ Trace make_trace_impl(const Scene& scene, FrameRef& f, const NumFormat& format, 
     t.tri_mesh_index = f.spheres.tri_mesh_index;
     t.pairless = pairless;
     t.primary_groups = std::uint32_t(f.primary.size());
-    t.groups.reserve(f.primary.size() + f.shadow.size());
-    auto add = [&](auto& g, auto& r) {
-        TraceGroup tg;
-        tg.kind = g.kind;
-        tg.n = g.n;
-        tg.px = g.px;
-        tg.py = g.py;
-        tg.origin = g.origin;
-        tg.tmax = g.tmax;
-        tg.row_valid = g.row_valid;
-        tg.col_valid = g.col_valid;
-        tg.planes = g.planes;
-        tg.grid_corner = g.grid_corner;  // directions computed on use: 72 bytes instead of 12 N^2
-        tg.du = g.du;
-        tg.dv = g.dv;
-        tg.counts = r.counts;
-        if (!pairless) tg.counts.pairless = 0;  // a trace for the row-and-column reading only
-        if constexpr (std::is_const_v<std::remove_reference_t<decltype(r)>>) {
-            tg.sphere_hits = r.sphere_list;
-            if (pairless) tg.pairless = r.pairless;
-            tg.hits = r.hits;
-        } else {
-            tg.sphere_hits = std::move(r.sphere_list);
-            if (pairless) tg.pairless = std::move(r.pairless);
-            tg.hits = std::move(r.hits);
-            r = GroupResult{};
-            g.planes = std::vector<Plane>{};
-        }
-        t.groups.push_back(std::move(tg));
-    };
-    for (std::size_t i = 0; i < f.primary.size(); ++i) add(f.primary[i], f.primary_results.at(i));
-    for (std::size_t i = 0; i < f.shadow.size(); ++i) add(f.shadow[i], f.shadow_results.at(i));
     return t;
 }
 
-}  // namespace
+TraceGroup trace_group(RayGroup&& g, GroupResult&& r, bool pairless) { return trace_group_impl(g, r, pairless); }
 
 Trace make_trace(const Scene& scene, const Frame& f, const NumFormat& format, bool pairless) {
     return make_trace_impl(scene, f, format, pairless);
@@ -192,10 +201,10 @@ Trace make_trace(const Scene& scene, Frame&& f, const NumFormat& format, bool pa
 
 namespace {
 
-// The payload (docs/TRACE.md). For workload_hash, `as_workload` leaves out
-// the scene name and writes the pair-less spheres only when `pairless`.
-void write_payload(Writer& w, const Trace& t, bool as_workload = false, bool pairless_wanted = true) {
-    const bool pairless = t.pairless && pairless_wanted;
+// The payload (docs/TRACE.md) is the header part, the group count and the
+// groups. For the workload hash, `as_workload` leaves out the scene name and
+// writes the pair-less spheres only when `pairless`.
+void write_header(Writer& w, const Trace& t, bool as_workload, bool pairless) {
     if (!as_workload) w.put_str(t.scene_name);
     w.put_str(t.format.name());
     w.put(t.width); w.put(t.height);
@@ -216,48 +225,79 @@ void write_payload(Writer& w, const Trace& t, bool as_workload = false, bool pai
         w.put(t.tri_mesh_index[i]);
     }
     w.put(t.primary_groups);
-    w.put(std::uint64_t(t.groups.size()));
-    for (const auto& g : t.groups) {
-        w.put(std::uint8_t(g.kind));
-        w.put(g.n);
-        w.put(g.px); w.put(g.py);
-        w.put_vec(g.origin);
-        w.put(g.tmax);
-        w.put(g.row_valid); w.put(g.col_valid);
-        for (const auto& p : g.planes) { w.put_vec(p.n); w.put(p.w); }
-        for (std::uint32_t v = 0; v < g.n; ++v)
-            for (std::uint32_t h = 0; h < g.n; ++h) w.put_vec(g.dir(h, v));
-        w.put(g.counts.plane_tests); w.put(g.counts.sphere_hits); w.put(g.counts.rt_tests);
-        w.put(as_workload && !pairless ? std::uint64_t(0) : g.counts.pairless);
-        w.put(std::uint64_t(g.sphere_hits.size()));
-        const std::uint32_t mb = mask_bytes(g.n);
-        for (const auto& s : g.sphere_hits) { w.put(s.sphere); w.put_mask(s.rows, mb); w.put_mask(s.cols, mb); }
-        if (pairless) {
-            // Runs: the gap before each (from sphere 0, then from one past the
-            // previous run's end) and its length - 1, as LEB128 varints,
-            // after the run count and their byte count.
-            w.put(std::uint64_t(g.pairless.size()));
-            Writer runs;
-            std::uint32_t next = 0;
-            for (const SphereRun& r : g.pairless) {
-                runs.put_varint(r.first - next);
-                runs.put_varint(r.count - 1);
-                next = r.end() + 1;
-            }
-            w.put(std::uint64_t(runs.out.size()));
-            w.bytes(runs.out.data(), runs.out.size());
+}
+
+void write_group(Writer& w, const TraceGroup& g, bool as_workload, bool pairless) {
+    w.put(std::uint8_t(g.kind));
+    w.put(g.n);
+    w.put(g.px); w.put(g.py);
+    w.put_vec(g.origin);
+    w.put(g.tmax);
+    w.put(g.row_valid); w.put(g.col_valid);
+    for (const auto& p : g.planes) { w.put_vec(p.n); w.put(p.w); }
+    for (std::uint32_t v = 0; v < g.n; ++v)
+        for (std::uint32_t h = 0; h < g.n; ++h) w.put_vec(g.dir(h, v));
+    w.put(g.counts.plane_tests); w.put(g.counts.sphere_hits); w.put(g.counts.rt_tests);
+    w.put(as_workload && !pairless ? std::uint64_t(0) : g.counts.pairless);
+    w.put(std::uint64_t(g.sphere_hits.size()));
+    const std::uint32_t mb = mask_bytes(g.n);
+    for (const auto& s : g.sphere_hits) { w.put(s.sphere); w.put_mask(s.rows, mb); w.put_mask(s.cols, mb); }
+    if (pairless) {
+        // Runs: the gap before each (from sphere 0, then from one past the
+        // previous run's end) and its length - 1, as LEB128 varints,
+        // after the run count and their byte count.
+        w.put(std::uint64_t(g.pairless.size()));
+        Writer runs;
+        std::uint32_t next = 0;
+        for (const SphereRun& r : g.pairless) {
+            runs.put_varint(r.first - next);
+            runs.put_varint(r.count - 1);
+            next = r.end() + 1;
         }
-        for (const auto& h : g.hits) { w.put(h.t); w.put(h.tri); }
+        w.put(std::uint64_t(runs.out.size()));
+        w.bytes(runs.out.data(), runs.out.size());
     }
+    for (const auto& h : g.hits) { w.put(h.t); w.put(h.tri); }
+}
+
+void write_payload(Writer& w, const Trace& t) {
+    write_header(w, t, false, t.pairless);
+    w.put(std::uint64_t(t.groups.size()));
+    for (const auto& g : t.groups) write_group(w, g, false, t.pairless);
 }
 
 }  // namespace
 
-std::string workload_hash(const Trace& t, bool pairless) {
+// The hash covers the header part, the groups and then the group count (last,
+// so that it can be computed as a stream delivers the groups).
+WorkloadHasher::WorkloadHasher(const Trace& header, bool pairless) : pairless_(header.pairless && pairless) {
     Writer w;
     w.hashing = true;
-    write_payload(w, t, true, pairless);
+    write_header(w, header, true, pairless_);
+    hash_ = w.hash;
+}
+
+void WorkloadHasher::add(const TraceGroup& g) {
+    Writer w;
+    w.hashing = true;
+    w.hash = hash_;
+    write_group(w, g, true, pairless_);
+    hash_ = w.hash;
+    ++groups_;
+}
+
+std::string WorkloadHasher::value() const {
+    Writer w;
+    w.hashing = true;
+    w.hash = hash_;
+    w.put(groups_);
     return hex64(w.hash);
+}
+
+std::string workload_hash(const Trace& t, bool pairless) {
+    WorkloadHasher h(t, pairless);
+    for (const auto& g : t.groups) h.add(g);
+    return h.value();
 }
 
 std::string serialize_trace(const Trace& t) {

@@ -85,33 +85,54 @@ TEST_F(Cli, ProgressLinesForTheFrontEndAndTheModelChangeNoResult) {
     const RunResult quiet = run(plus({"simulate", "-q", "--json", "quiet.json"}, small));
     ASSERT_EQ(quiet.code, 0) << quiet.err;
     EXPECT_EQ(quiet.err, "");
-    const RunResult shown = run(plus({"simulate", "-q", "--progress", "--json", "shown.json"}, small));
-    ASSERT_EQ(shown.code, 0) << shown.err;
-    EXPECT_EQ(shown.out, "");
-    std::map<std::string, std::vector<std::string>> phases;  // unit -> its lines' "done/total"
-    std::istringstream lines(shown.err);
-    for (std::string line; std::getline(lines, line);) {
-        ASSERT_THAT(line, StartsWith("[")) << line;
-        ASSERT_THAT(line, HasSubstr("elapsed, ETA")) << line;
-        const auto counts = line.find("] ") + 2;
-        const auto space = line.find(' ', counts);
-        const auto unit_end = line.find_first_of(",", space);
-        phases[line.substr(space + 1, unit_end - space - 1)].push_back(line.substr(counts, space - counts));
-    }
-    for (const char* unit : {"front end primary ray groups", "front end shadow ray groups", "model passes"}) {
-        ASSERT_EQ(phases.count(unit), 1u) << unit << " missing in:\n" << shown.err;
-        const std::vector<std::string>& v = phases[unit];
+    // unit -> its lines' "done/total", and the lines themselves
+    auto phases_of = [](const std::string& err, std::vector<std::string>& all) {
+        std::map<std::string, std::vector<std::string>> phases;
+        std::istringstream lines(err);
+        for (std::string line; std::getline(lines, line);) {
+            EXPECT_THAT(line, StartsWith("[")) << line;
+            EXPECT_THAT(line, HasSubstr("elapsed, ETA")) << line;
+            const auto counts = line.find("] ") + 2;
+            const auto space = line.find(' ', counts);
+            const auto unit_end = line.find_first_of(",", space);
+            phases[line.substr(space + 1, unit_end - space - 1)].push_back(line.substr(counts, space - counts));
+            all.push_back(line);
+        }
+        return phases;
+    };
+    auto ends_at_total = [](const std::vector<std::string>& v, const char* unit) {
         const std::string last = v.back();
         const std::string total = last.substr(last.find('/') + 1);
         EXPECT_EQ(last, total + "/" + total) << unit;
         EXPECT_LE(v.size(), 102u) << unit;
-    }
+    };
     auto drop_wall = [](nlohmann::json j) {
         j.erase("wall");
         return j;
     };
-    EXPECT_EQ(drop_wall(nlohmann::json::parse(slurp(dir / "shown.json"))),
-              drop_wall(nlohmann::json::parse(slurp(dir / "quiet.json"))));
+    // The whole frame first: a line per front-end phase, then the model's.
+    const RunResult whole = run(plus({"simulate", "-q", "--whole-frame", "--progress", "--json", "whole.json"}, small));
+    ASSERT_EQ(whole.code, 0) << whole.err;
+    EXPECT_EQ(whole.out, "");
+    std::vector<std::string> lines;
+    auto phases = phases_of(whole.err, lines);
+    for (const char* unit : {"front end primary ray groups", "front end shadow ray groups", "model passes"}) {
+        ASSERT_EQ(phases.count(unit), 1u) << unit << " missing in:\n" << whole.err;
+        ends_at_total(phases[unit], unit);
+    }
+    // Streamed: one line, the model's passes with the front end's phase beside them.
+    const RunResult streamed = run(plus({"simulate", "-q", "--progress", "--json", "streamed.json"}, small));
+    ASSERT_EQ(streamed.code, 0) << streamed.err;
+    EXPECT_EQ(streamed.out, "");
+    lines.clear();
+    phases = phases_of(streamed.err, lines);
+    ASSERT_EQ(phases.size(), 1u) << streamed.err;
+    ASSERT_EQ(phases.count("model passes"), 1u) << streamed.err;
+    ends_at_total(phases["model passes"], "model passes");
+    EXPECT_THAT(lines.back(), HasSubstr("; front end shadow ray groups ")) << lines.back();
+    const nlohmann::json q = drop_wall(nlohmann::json::parse(slurp(dir / "quiet.json")));
+    EXPECT_EQ(drop_wall(nlohmann::json::parse(slurp(dir / "whole.json"))), q);
+    EXPECT_EQ(drop_wall(nlohmann::json::parse(slurp(dir / "streamed.json"))), q);
     const RunResult render = run(plus({"render", "--progress", "-q", "-o", "p.png"}, small));
     ASSERT_EQ(render.code, 0) << render.err;
     EXPECT_THAT(render.err, HasSubstr("front end shadow ray groups"));

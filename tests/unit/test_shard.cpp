@@ -25,7 +25,7 @@ using ::testing::HasSubstr;
 using namespace raplas_test;
 
 // The built-in scene at 16x16 pixels in 8x8 primary and shadow groups.
-const std::vector<std::string> kScene = {"--set", "image.width=16", "--set", "image.height=16",
+const std::vector<std::string> kShardScene = {"--set", "image.width=16", "--set", "image.height=16",
                                          "--set", "groups.size=8",  "--set", "groups.shadow_size=8"};
 
 json load(const fs::path& p) { return json::parse(slurp(p)); }
@@ -51,7 +51,7 @@ protected:
     // The workload as a trace file, made once per test.
     void SetUp() override {
         TempDirTest::SetUp();
-        const Outcome t = fork_raplas(plus({"trace", "-q", "-o", "t.trace"}, kScene));
+        const Outcome t = fork_raplas(plus({"trace", "-q", "-o", "t.trace"}, kShardScene));
         ASSERT_EQ(t.code, 0) << t.err;
     }
     // raplas in a forked child, in `dir` (fast: no executable to load).
@@ -130,7 +130,7 @@ TEST_F(Shard, FifoBoundAddsUpToTheWholeRun) {
 
 TEST_F(Shard, BothReadingFromTheSceneAddsUpToTheWholeRun) {
     // The scene itself: every shard runs the same front end.
-    expect_shards_add_up(plus(kScene, {"--iccs", "3", "--fifo", "4", "--set", "icc.triangle_select=both"}), {2, 5});
+    expect_shards_add_up(plus(kShardScene, {"--iccs", "3", "--fifo", "4", "--set", "icc.triangle_select=both"}), {2, 5});
 }
 
 TEST_F(Shard, InjectedMismatchIsTheWholeRunsOne) {
@@ -217,7 +217,7 @@ TEST_F(Shard, WrongMergeIsRefusedAndWritesNothing) {
 
 TEST_F(Shard, EmittedJobsRunLineByLineAsASlurmArrayAndMergeToTheWholeRun) {
     const std::vector<std::string> config{"--iccs", "3", "--fifo", "4"};
-    const RunResult e = run(plus(plus(plus({"simulate"}, kScene), config),
+    const RunResult e = run(plus(plus(plus({"simulate"}, kShardScene), config),
                                  {"--shards", "3", "--emit-jobs", "jobs", "--json", "out.json", "--csv", "out.csv"}));
     ASSERT_EQ(e.code, 0) << e.err;
     EXPECT_THAT(e.out, HasSubstr("parallel < jobs.traces && parallel < jobs && sh jobs.merge"));
@@ -248,7 +248,7 @@ TEST_F(Shard, EmittedJobsRunLineByLineAsASlurmArrayAndMergeToTheWholeRun) {
     for (int id : {3, 1, 2}) ASSERT_EQ(task("jobs", id), 0);
     ASSERT_EQ(std::system(("sh " + quoted((dir / "jobs.merge").string()) + " >/dev/null").c_str()), 0);
 
-    const Outcome w = fork_raplas(plus(plus(plus({"simulate"}, kScene), config), {"--json", "whole.json", "--csv", "whole.csv", "-q"}));
+    const Outcome w = fork_raplas(plus(plus(plus({"simulate"}, kShardScene), config), {"--json", "whole.json", "--csv", "whole.csv", "-q"}));
     ASSERT_EQ(w.code, 0) << w.err;
     EXPECT_EQ(differences(load(dir / "whole.json"), load(dir / "out.json")), "[]");
     EXPECT_TRUE(without_wall(load(dir / "out.json")) == without_wall(load(dir / "whole.json")));
@@ -258,17 +258,17 @@ TEST_F(Shard, EmittedJobsRunLineByLineAsASlurmArrayAndMergeToTheWholeRun) {
     fs::remove(dir / "out.json.d/workload.trace");
     EXPECT_EQ(task("jobs", 2), 0);
     // The same jobs again are fine; another run's in the same work dir are not.
-    EXPECT_EQ(run(plus(plus(plus({"simulate"}, kScene), config),
+    EXPECT_EQ(run(plus(plus(plus({"simulate"}, kShardScene), config),
                        {"--shards", "3", "--emit-jobs", "jobs", "--json", "out.json", "--csv", "out.csv", "-q"}))
                   .code,
               0);
-    const RunResult other = run(plus(plus({"simulate"}, kScene), {"--iccs", "4", "--shards", "3", "--emit-jobs", "jobs",
+    const RunResult other = run(plus(plus({"simulate"}, kShardScene), {"--iccs", "4", "--shards", "3", "--emit-jobs", "jobs",
                                                                   "--json", "out.json", "-q"}));
     EXPECT_EQ(other.code, 2);
     EXPECT_THAT(other.err, HasSubstr("shards.json: the work dir holds the jobs of another run"));
     EXPECT_EQ(lines_of(other.err).size(), 1u);
     // Another shard count of the same run shares the work dir and its trace.
-    EXPECT_EQ(run(plus(plus(plus({"simulate"}, kScene), config),
+    EXPECT_EQ(run(plus(plus(plus({"simulate"}, kShardScene), config),
                        {"--shards", "2", "--emit-jobs", "jobs2", "--json", "out.json", "-q"}))
                   .code,
               0);

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstddef>
 #include <memory>
+#include <mutex>
 #include <string>
 
 namespace raplas {
@@ -47,6 +48,27 @@ private:
     bool on_, tty_;
     std::string phase_;
     std::unique_ptr<ProgressLine> line_;
+};
+
+// A streamed simulation's one progress line: the model's passes (the bar,
+// the ETA) and, beside them, the front end's phase as it runs ahead. Both
+// threads report; one draws at a time. Not on a terminal, a line is written
+// only when the model's count moves (one per percent of a long count).
+class StreamProgress {
+public:
+    explicit StreamProgress(bool tty) : line_(true, tty), tty_(tty) {}
+    void front_end(const char* phase, std::size_t done, std::size_t total);
+    void model(std::size_t done, std::size_t total, std::uint64_t cycles);
+    void finish();
+
+private:
+    void draw();
+    std::mutex mutex_;
+    ProgressLine line_;
+    bool tty_;
+    std::string phase_;
+    std::size_t fe_done_ = 0, fe_total_ = 0, done_ = 0, total_ = 0;
+    std::uint64_t cycles_ = 0;
 };
 
 }  // namespace raplas

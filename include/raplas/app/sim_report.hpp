@@ -8,7 +8,7 @@
 
 #include "baseline_memory.hpp"
 #include "top.hpp"
-#include "raplas/frontend/trace_io.hpp"
+#include "raplas/frontend/group_source.hpp"
 #include "raplas/util/params.hpp"
 
 namespace raplas {
@@ -24,12 +24,14 @@ struct Provenance {
 };
 // `named`: the config as loaded from its file (or the defaults); `resolved`:
 // with --set, --iccs and --fifo applied. Both get their numerics resolved.
-Provenance make_provenance(ParamSet named, ParamSet resolved, const Trace& trace, bool pairless);
+// `workload_hash`: of the groups simulated (WorkloadTally::hasher).
+Provenance make_provenance(ParamSet named, ParamSet resolved, const std::string& workload_hash);
 // The config_hash of a resolved machine config (numerics resolved first).
 std::string config_hash(ParamSet resolved);
 
-// What a report says of the workload: the trace's sizes and counts, and the
-// kind and first pixel of the group of the result's first mismatching ray.
+// What a report says of the workload: the trace's sizes (from its header),
+// the group count and counts folded over its groups, and the kind and first
+// pixel of the group of the result's first mismatching ray.
 struct WorkloadFacts {
     std::uint64_t ray_groups = 0, primary_groups = 0, spheres = 0, triangles = 0;
     std::uint32_t group_size = 0, shadow_group_size = 0;
@@ -37,7 +39,7 @@ struct WorkloadFacts {
     bool mismatch_primary = true;
     std::int32_t mismatch_px = 0, mismatch_py = 0;
 };
-WorkloadFacts workload_facts(const Trace& t, const model::SimResult& r);
+WorkloadFacts workload_facts(const Trace& header, const WorkloadTally& tally, const model::SimResult& r);
 
 struct SimReportInput {
     const model::SimResult* result = nullptr;

@@ -12,6 +12,7 @@
 namespace raplas {
 
 struct Frame;
+class GroupStream;
 
 // What render_frame measured of a sample of the shadow groups before tracing
 // them all (for the memory budget): mean sphere hits, pair-less runs and
@@ -42,6 +43,12 @@ struct FrameOptions {
     // time, `done` increasing to `total`. For progress lines; never changes a
     // result.
     std::function<void(const char* phase, std::size_t done, std::size_t total)> progress;
+    // With `record`: hand each group, with its records, to this stream as
+    // it is traced instead of keeping it in the frame (the frame's group
+    // lists stay empty): the trace's header once the spheres and the primary
+    // groups are made, then every group in issue order, each traced only
+    // once the stream has room for it (raplas/frontend/group_source.hpp).
+    GroupStream* stream = nullptr;
 };
 
 struct PhaseTimes {

@@ -31,10 +31,15 @@ std::uint32_t format_bytes_per_value(const NumFormat& f);
 std::vector<MemoryItem> frame_memory_up_front(const Scene& s, const FrameOptions& o);
 
 // From FrameOptions::before_shadow on: the shadow phase for `lit` pixels and,
-// when recording, the shadow groups kept. `per_group` is what a shadow group
+// when recording into the frame (not to a stream), the shadow groups kept. `per_group` is what a shadow group
 // is expected to hold (render_frame samples some).
 std::vector<MemoryItem> frame_memory_shadow(const Scene& s, const FrameOptions& o, std::uint64_t lit,
                                             const ShadowSample& per_group);
+
+// A GroupStream's window of `groups` ray groups of size n, each with that
+// many sphere-hit records and pair-less runs (FrameOptions::stream: the
+// groups in memory at once).
+MemoryItem stream_window_memory(std::uint64_t groups, std::uint32_t n, double sphere_hits, double pairless_runs);
 
 // The Trace structure (make_trace / read_trace) of that shape; built by
 // make_trace(scene, Frame&&), only what it adds to the frame.

@@ -69,13 +69,34 @@ Trace make_trace(const Scene& scene, const Frame& frame, const NumFormat& format
 // goes (the frame's groups are left empty): peak memory stays near one copy.
 Trace make_trace(const Scene& scene, Frame&& frame, const NumFormat& format, bool pairless = false);
 
+// The trace's header from a frame whose spheres and primary groups are made:
+// everything but the groups.
+Trace trace_header(const Scene& scene, const Frame& frame, const NumFormat& format, bool pairless);
+// One group of the trace, taking the group's records and hits out of the
+// group and its result (as make_trace does with a frame's).
+TraceGroup trace_group(RayGroup&& g, GroupResult&& r, bool pairless);
+
 std::string serialize_trace(const Trace& t);
 // What the machine is given to do, as 16 hex digits (FNV-1a, 64 bits, over
-// the trace's payload without the scene name): the same for a trace built in
-// memory and the same trace read from a file; the pair-less spheres count
-// only with `pairless` (icc.triangle_select = any), so a trace made for both
-// readings and one made for `both` alone give the same hash under `both`.
+// the trace's payload without the scene name, with the group count moved
+// after the groups): the same for a trace built in memory, the same trace
+// read from a file and the groups streamed from the front end; the pair-less
+// spheres count only with `pairless` (icc.triangle_select = any), so a trace
+// made for both readings and one made for `both` alone give the same hash
+// under `both`.
 std::string workload_hash(const Trace& t, bool pairless);
+// The same hash group by group, in issue order: from the trace's header (its
+// groups are not read), then add() each group; value() after the last.
+class WorkloadHasher {
+public:
+    WorkloadHasher(const Trace& header, bool pairless);
+    void add(const TraceGroup& g);
+    std::string value() const;
+
+private:
+    bool pairless_;
+    std::uint64_t hash_ = 0, groups_ = 0;
+};
 Trace parse_trace(const std::string& bytes, const std::string& name);
 void write_trace(const std::string& path, const Trace& t);  // atomic
 Trace read_trace(const std::string& path);

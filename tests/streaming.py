@@ -1,0 +1,82 @@
+#!/usr/bin/env python3
+"""The streamed simulation (the front end hands each ray group to the model as
+it is traced, a window of passes in memory) and the whole-frame one
+(`--whole-frame`: the whole trace first) give the same JSON apart from `wall`:
+over the small scenes, both engines, the estimates, both functional modes,
+both Triangle Selector readings, overlapped passes, shards, 1 to 3 front-end
+threads and the smallest window (2 passes). A point also checks that the
+streamed run's JSON is the same with another thread count and window."""
+import json
+import os
+import random
+import subprocess
+import sys
+import tempfile
+
+from testlib import finish, json_diff, small_scenes
+
+raplas, root = sys.argv[1], os.path.abspath(sys.argv[2])
+points_per_scene = int(sys.argv[3]) if len(sys.argv) > 3 else 6
+
+# (machine settings, extra options); each point draws one and random ICC
+# counts, FIFO depths, threads and windows.
+VARIANTS = [
+    (["sim.mode=cycle"], []),
+    (["sim.mode=event"], []),
+    (["sim.mode=event", "icc.triangle_select=any"], []),
+    (["sim.mode=cycle", "icc.triangle_select=any", "sim.functional=trace"], []),
+    (["sim.mode=event", "sim.functional=trace"], []),
+    (["sim.estimate=fifo_bound"], []),
+    (["sim.estimate=fifo_bound", "icc.triangle_select=any"], []),
+    (["sim.estimate=sample_passes", "sim.sample_fraction=0.3"], []),
+    (["host.overlap_passes=true", "sim.mode=event"], []),
+    (["host.overlap_passes=true", "sim.mode=cycle", "icc.triangle_select=any"], []),
+    (["sim.mode=event"], ["--shard", "1/3"]),
+    (["sim.mode=cycle", "sim.fault=wrong_rti", "sim.fault_icc=1"], ["--shard", "0/2"]),
+    (["sim.mode=event", "sim.fault=stuck_rti"], []),
+]
+
+
+def simulate(args, path, expect_ok=True):
+    p = subprocess.run([raplas, "simulate", "-q", "--json", path] + args, capture_output=True, text=True)
+    if expect_ok and p.returncode != 0:
+        raise RuntimeError(f"raplas simulate {' '.join(args)}: exit {p.returncode}\n{p.stderr}")
+    return p.returncode, json.load(open(path)) if os.path.exists(path) else None
+
+
+# wall-clock figures: of a whole result ("wall") and of a shard's partial one
+WALL = {"wall", "model_wall_s", "frontend_wall_s"}
+rng = random.Random(20260125)
+failures = points = 0
+with tempfile.TemporaryDirectory() as tmp:
+    for name, scene_args in small_scenes(root):
+        for i in range(points_per_scene):
+            sets, extra = VARIANTS[(i + len(name)) % len(VARIANTS)] if i < len(VARIANTS) else rng.choice(VARIANTS)
+            iccs = rng.choice([2, 3, 5, 16]) if "sim.fault_icc=1" in sets else rng.choice([1, 2, 3, 5, 16])
+            args = scene_args + ["--config", "paper", "--iccs", str(iccs), "--fifo", str(rng.choice([1, 3, 10, 1000]))]
+            for s in sets:
+                args += ["--set", s]
+            args += extra
+            fault = any("fault" in s for s in sets)
+            results = {}
+            for label, opts in (("whole", ["--whole-frame"]),
+                                ("streamed", ["--threads", str(rng.choice([1, 2, 3])), "--window", "2"]),
+                                ("streamed again", ["--threads", str(rng.choice([1, 2, 3])), "--window", "5"])):
+                path = os.path.join(tmp, f"{label}.json")
+                if os.path.exists(path):
+                    os.remove(path)
+                code, j = simulate(args + opts, path, expect_ok=not fault)
+                if j is not None:
+                    j.pop("wall", None)
+                results[label] = (code, j)
+            points += 1
+            for label in ("streamed", "streamed again"):
+                d = [] if results[label][0] == results["whole"][0] else [f"exit {results[label][0]} != {results['whole'][0]}"]
+                d += json_diff(results["whole"][1], results[label][1], WALL)
+                if d:
+                    failures += 1
+                    print(f"FAIL {name} {' '.join(args)} ({label}):")
+                    for line in d[:10]:
+                        print("  " + line)
+    print(f"{points} points, {failures} failures")
+finish(failures)
