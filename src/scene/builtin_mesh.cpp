@@ -9,6 +9,12 @@ namespace {
 
 struct Builder {
     Mesh& m;
+    std::int32_t object = 0;
+    // The triangles added from now on belong to the object `name`.
+    void begin_object(const std::string& name) {
+        m.object_names.push_back(name);
+        object = static_cast<std::int32_t>(m.object_names.size() - 1);
+    }
     std::int32_t add_material(const std::string& name, Vec3f kd) {
         Material mt;
         mt.name = name;
@@ -23,6 +29,7 @@ struct Builder {
     void tri(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::int32_t mat) {
         m.triangles.push_back({a, b, c});
         m.triangle_material.push_back(mat);
+        m.triangle_object.push_back(object);
     }
     void quad(Vec3f a, Vec3f b, Vec3f c, Vec3f d, std::int32_t mat) {
         auto ia = vertex(a), ib = vertex(b), ic = vertex(c), id = vertex(d);
@@ -89,10 +96,15 @@ Mesh builtin_mesh(int detail) {
     auto red = b.add_material("red", {0.85f, 0.25f, 0.20f});
     auto gold = b.add_material("gold", {0.90f, 0.70f, 0.25f});
     auto green = b.add_material("green", {0.30f, 0.75f, 0.35f});
+    b.begin_object("floor");
     b.quad({-3, 0, -3}, {-3, 0, 3}, {3, 0, 3}, {3, 0, -3}, floor);
+    b.begin_object("wall");
     b.quad({-3, 0, -3}, {3, 0, -3}, {3, 3, -3}, {-3, 3, -3}, wall);
+    b.begin_object("box");
     b.box({0.4f, 0.0f, -1.2f}, {1.4f, 1.6f, -0.2f}, red);
+    b.begin_object("big_sphere");
     b.icosphere({-0.9, 0.8, -0.3}, 0.8, detail, gold);
+    b.begin_object("small_sphere");
     b.icosphere({0.6, 0.45, 0.9}, 0.45, detail > 0 ? detail - 1 : 0, green);
     return m;
 }

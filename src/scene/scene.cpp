@@ -164,6 +164,8 @@ void add_floor(Mesh& m) {
     m.materials.push_back(mt);
     auto mat = static_cast<std::int32_t>(m.materials.size() - 1);
     auto base = static_cast<std::uint32_t>(m.vertices.size());
+    if (m.triangle_object.size() == m.triangles.size())
+        m.triangle_object.insert(m.triangle_object.end(), 2, Mesh::kAddedObject);
     m.vertices.push_back({x0, y, z0});
     m.vertices.push_back({x0, y, z1});
     m.vertices.push_back({x1, y, z1});
