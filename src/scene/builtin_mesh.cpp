@@ -1,3 +1,4 @@
+#include <cmath>
 #include <map>
 #include <utility>
 
@@ -106,6 +107,31 @@ Mesh builtin_mesh(int detail) {
     b.icosphere({-0.9, 0.8, -0.3}, 0.8, detail, gold);
     b.begin_object("small_sphere");
     b.icosphere({0.6, 0.45, 0.9}, 0.45, detail > 0 ? detail - 1 : 0, green);
+    return m;
+}
+
+Mesh wave_mesh(int detail, double phase) {
+    Mesh m;
+    m.source = "<builtin:wave>";
+    m.materials.push_back(Material{});
+    Builder b{m};
+    const auto water = b.add_material("wave", {0.25f, 0.45f, 0.80f});
+    b.begin_object("wave");
+    const int n = 4 << detail;  // cells a side
+    const double pi = std::acos(-1.0);
+    for (int i = 0; i <= n; ++i)
+        for (int j = 0; j <= n; ++j) {
+            const double x = -2.0 + 4.0 * j / n, z = -2.0 + 4.0 * i / n;
+            // Crests run across the grid at an angle: two periods along x, one along z.
+            const double y = 0.25 * std::sin(pi * x + 0.5 * pi * z - phase);
+            b.vertex(to_f(Vec3d(x, y, z)));
+        }
+    const auto at = [n](int i, int j) { return static_cast<std::uint32_t>(i * (n + 1) + j); };
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            b.tri(at(i, j), at(i + 1, j), at(i + 1, j + 1), water);
+            b.tri(at(i, j), at(i + 1, j + 1), at(i, j + 1), water);
+        }
     return m;
 }
 

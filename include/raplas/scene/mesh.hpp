@@ -52,5 +52,10 @@ Mesh load_obj_text(const std::string& text, const std::string& name, const std::
 // two tessellated spheres (objects "floor", "wall", "box", "big_sphere",
 // "small_sphere"). `detail` scales the sphere tessellation.
 Mesh builtin_mesh(int detail = 3);
+// Procedural deforming mesh: a square grid of 4 * 2^detail cells a side over
+// x, z in [-2, 2] (object "wave"), its heights a travelling wave at `phase`
+// (radians; one period is 2 pi). Every phase gives the same vertices and
+// triangles in the same order.
+Mesh wave_mesh(int detail, double phase);
 
 }  // namespace raplas
