@@ -132,6 +132,7 @@ nlohmann::json param_json(const ParamSet& p, const std::string& key) {
             if (!v) return nullptr;
             return nlohmann::json::array({v->x, v->y, v->z});
         }
+        case ParamSet::Type::Tables: return p.value_text(key);
     }
     return nullptr;
 }

@@ -1,3 +1,4 @@
+#include <cmath>
 #include <map>
 #include <utility>
 
@@ -9,6 +10,12 @@ namespace {
 
 struct Builder {
     Mesh& m;
+    std::int32_t object = 0;
+    // The triangles added from now on belong to the object `name`.
+    void begin_object(const std::string& name) {
+        m.object_names.push_back(name);
+        object = static_cast<std::int32_t>(m.object_names.size() - 1);
+    }
     std::int32_t add_material(const std::string& name, Vec3f kd) {
         Material mt;
         mt.name = name;
@@ -23,6 +30,7 @@ struct Builder {
     void tri(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::int32_t mat) {
         m.triangles.push_back({a, b, c});
         m.triangle_material.push_back(mat);
+        m.triangle_object.push_back(object);
     }
     void quad(Vec3f a, Vec3f b, Vec3f c, Vec3f d, std::int32_t mat) {
         auto ia = vertex(a), ib = vertex(b), ic = vertex(c), id = vertex(d);
@@ -89,11 +97,41 @@ Mesh builtin_mesh(int detail) {
     auto red = b.add_material("red", {0.85f, 0.25f, 0.20f});
     auto gold = b.add_material("gold", {0.90f, 0.70f, 0.25f});
     auto green = b.add_material("green", {0.30f, 0.75f, 0.35f});
+    b.begin_object("floor");
     b.quad({-3, 0, -3}, {-3, 0, 3}, {3, 0, 3}, {3, 0, -3}, floor);
+    b.begin_object("wall");
     b.quad({-3, 0, -3}, {3, 0, -3}, {3, 3, -3}, {-3, 3, -3}, wall);
+    b.begin_object("box");
     b.box({0.4f, 0.0f, -1.2f}, {1.4f, 1.6f, -0.2f}, red);
+    b.begin_object("big_sphere");
     b.icosphere({-0.9, 0.8, -0.3}, 0.8, detail, gold);
+    b.begin_object("small_sphere");
     b.icosphere({0.6, 0.45, 0.9}, 0.45, detail > 0 ? detail - 1 : 0, green);
+    return m;
+}
+
+Mesh wave_mesh(int detail, double phase) {
+    Mesh m;
+    m.source = "<builtin:wave>";
+    m.materials.push_back(Material{});
+    Builder b{m};
+    const auto water = b.add_material("wave", {0.25f, 0.45f, 0.80f});
+    b.begin_object("wave");
+    const int n = 4 << detail;  // cells a side
+    const double pi = std::acos(-1.0);
+    for (int i = 0; i <= n; ++i)
+        for (int j = 0; j <= n; ++j) {
+            const double x = -2.0 + 4.0 * j / n, z = -2.0 + 4.0 * i / n;
+            // Crests run across the grid at an angle: two periods along x, one along z.
+            const double y = 0.25 * std::sin(pi * x + 0.5 * pi * z - phase);
+            b.vertex(to_f(Vec3d(x, y, z)));
+        }
+    const auto at = [n](int i, int j) { return static_cast<std::uint32_t>(i * (n + 1) + j); };
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            b.tri(at(i, j), at(i + 1, j), at(i + 1, j + 1), water);
+            b.tri(at(i, j), at(i + 1, j + 1), at(i, j + 1), water);
+        }
     return m;
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <map>
 #include <sstream>
 #include <tiny_obj_loader.h>
 #include <utility>
@@ -305,7 +306,14 @@ Mesh load_obj_text(const std::string& text, const std::string& path, const std::
         }
         m.vertices.push_back(v);
     }
+    std::map<std::string, std::int32_t> object_index;
     for (const auto& sh : shapes) {
+        // tinyobjloader names a shape after its `o` or `g` line (a `g` of several names joined by spaces).
+        const std::size_t b = sh.name.find_first_not_of(" \t\r\n");
+        const std::string name = b == std::string::npos ? "" : sh.name.substr(b, sh.name.find_last_not_of(" \t\r\n") - b + 1);
+        const auto named = object_index.emplace(name, static_cast<std::int32_t>(m.object_names.size()));
+        if (named.second) m.object_names.push_back(name);
+        const std::int32_t object = named.first->second;
         std::size_t off = 0;
         for (std::size_t f = 0; f < sh.mesh.num_face_vertices.size(); ++f) {
             std::size_t fv = sh.mesh.num_face_vertices[f];
@@ -320,6 +328,7 @@ Mesh load_obj_text(const std::string& text, const std::string& path, const std::
                 m.triangles.push_back(tri);
                 int mat = f < sh.mesh.material_ids.size() ? sh.mesh.material_ids[f] : -1;
                 m.triangle_material.push_back(mat >= 0 && static_cast<std::size_t>(mat) < materials.size() ? mat + 1 : 0);
+                m.triangle_object.push_back(object);
             }
             off += fv;
         }

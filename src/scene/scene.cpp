@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "raplas/scene/animation.hpp"
 #include "raplas/util/data_dir.hpp"
 #include "raplas/util/error.hpp"
 #include "raplas/util/files.hpp"
@@ -43,6 +44,7 @@ ParamSet scene_params() {
     p.add_bool("shading.skip_facing_away", false,
                "issue no shadow group for a hit point whose surface faces away from the whole light "
                "(its direct term is zero whatever the shadow rays find; the image does not change)");
+    add_animation_params(p);
     return p;
 }
 
@@ -164,6 +166,8 @@ void add_floor(Mesh& m) {
     m.materials.push_back(mt);
     auto mat = static_cast<std::int32_t>(m.materials.size() - 1);
     auto base = static_cast<std::uint32_t>(m.vertices.size());
+    if (m.triangle_object.size() == m.triangles.size())
+        m.triangle_object.insert(m.triangle_object.end(), 2, Mesh::kAddedObject);
     m.vertices.push_back({x0, y, z0});
     m.vertices.push_back({x0, y, z1});
     m.vertices.push_back({x1, y, z1});
@@ -178,8 +182,13 @@ Scene scene_from_params(const ParamSet& p, const std::string& mesh_override) {
     Scene s;
     s.name = p.get_string("name");
     std::string mesh = mesh_override.empty() ? p.get_string("mesh") : mesh_override;
-    const bool builtin = mesh.empty();
-    if (!mesh_override.empty()) {
+    std::optional<Mesh> animated_mesh = animation_still_mesh(p, mesh_override);
+    const bool wave = p.get_string("animation.builtin") == "wave";
+    const bool builtin = mesh.empty() && !animated_mesh;
+    if (animated_mesh) {
+        s.mesh = std::move(*animated_mesh);
+        if (wave && !p.is_given("name")) s.name = "wave";
+    } else if (!mesh_override.empty()) {
         s.mesh = load_obj(mesh_override);
         if (!p.is_given("name")) {
             std::string base = mesh_override.substr(mesh_override.find_last_of('/') + 1);
@@ -217,6 +226,8 @@ Scene scene_from_params(const ParamSet& p, const std::string& mesh_override) {
             throw InputError(p.origin("camera.up") + ": camera.up is parallel to the view direction");
     } else if (builtin) {
         s.camera = {{3.2, 2.6, 5.2}, {0.0, 0.7, -0.4}, {0, 1, 0}, fov};
+    } else if (wave) {
+        s.camera = {{0.0, 3.4, 5.4}, {0.0, -0.3, 0.2}, {0, 1, 0}, fov};
     } else {
         const double aspect = double(p.get_int("image.width")) / double(p.get_int("image.height"));
         s.camera = auto_camera(s.mesh, object_triangles, fov, aspect);
@@ -237,6 +248,10 @@ Scene scene_from_params(const ParamSet& p, const std::string& mesh_override) {
         s.light.corner = {-1.5, 4.0, -0.5};
         s.light.edge_u = {1.2, 0, 0};
         s.light.edge_v = {0, 0, 1.2};
+    } else if (wave) {
+        s.light.corner = {-4.0, 2.5, -0.6};
+        s.light.edge_u = {1.2, 0, 0};
+        s.light.edge_v = {0, 0, 1.2};
     } else {
         s.light = auto_light(object_bounds);
         s.light_auto = true;
@@ -254,6 +269,8 @@ Scene scene_from_params(const ParamSet& p, const std::string& mesh_override) {
     s.ambient = p.get_real("shading.ambient");
     s.shadow_offset = p.get_real("shading.shadow_offset");
     s.skip_facing_away = p.get_bool("shading.skip_facing_away");
+    Animation a = animation_from_params(p, s);
+    if (a.animated()) s.animation = std::make_shared<const Animation>(std::move(a));
     return s;
 }
 
@@ -279,6 +296,7 @@ void resolve_scene_params(ParamSet& p, const Scene& s, const std::string& mesh_o
     p.set("light.corner=" + vec(s.light.corner));
     p.set("light.edge_u=" + vec(s.light.edge_u));
     p.set("light.edge_v=" + vec(s.light.edge_v));
+    if (s.animation) resolve_animation_params(p, *s.animation);
 }
 
 Scene load_scene(const SceneRequest& req) {

@@ -23,6 +23,7 @@ const char* type_name(ParamSet::Type t) {
         case ParamSet::Type::Bool: return "true or false";
         case ParamSet::Type::String: return "a string";
         case ParamSet::Type::Vec3: return "an array of 3 numbers";
+        case ParamSet::Type::Tables: return "an array of tables";
     }
     return "?";
 }
@@ -82,29 +83,69 @@ std::string where_of(const std::string& origin, const toml::node& n) {
 // and a few thousand levels overflow the stack (nested arrays and inline
 // tables it limits itself). Each such level needs a '.', and no scene or
 // config file comes near kMaxDots of them: more are refused before parsing.
-// Lines that start with '#' are comments (or string text) and are skipped.
+// Lines that start with '#' are comments (or string text) and are skipped. Not
+// counted either: the decimal point of a number (a word of letters, digits,
+// '_', '+', '-' and one '.' with a digit on each side, as in 2.5e-3: such a
+// word adds at most one level), and the dots of a table header line ([a.b] or
+// [[a.b]] of bare keys alone, whose path starts at the top whatever came
+// before it; one header may have kMaxHeaderDots). A file of many keyframes
+// holds many numbers and [[...]] headers.
 void check_nesting(const std::string& text, const std::string& origin, bool lines = true) {
-    constexpr long kMaxDots = 1024;
+    constexpr long kMaxDots = 1024, kMaxHeaderDots = 64;
+    auto word_char = [](char c) {
+        return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '+' || c == '-' || c == '.';
+    };
+    auto digit = [](char c) { return c >= '0' && c <= '9'; };
+    auto header_line = [](const std::string& t, std::size_t first, std::size_t end) {
+        std::size_t last = t.find_last_not_of(" \t\r", end == 0 ? 0 : end - 1);
+        if (last == std::string::npos || last < first + 2 || t[first] != '[' || t[last] != ']') return false;
+        for (std::size_t i = first; i <= last; ++i) {
+            const char c = t[i];
+            if (!std::isalnum(static_cast<unsigned char>(c)) && std::string("_-. \t[]").find(c) == std::string::npos)
+                return false;
+        }
+        return true;
+    };
+    auto refuse = [&](long line, long limit, const char* where) {
+        return InputError(origin + (lines ? ":" + std::to_string(line) : "") + ": more than " + std::to_string(limit) +
+                          " '.' " + where + ": keys or tables nested too deeply");
+    };
     long dots = 0, line = 1;
     for (std::size_t start = 0; start < text.size(); ++line) {
         std::size_t end = text.find('\n', start);
         if (end == std::string::npos) end = text.size();
         const std::size_t first = text.find_first_not_of(" \t\r", start);
-        if (first >= end || text[first] != '#') {
-            dots += std::count(text.begin() + long(start), text.begin() + long(end), '.');
-            if (dots > kMaxDots)
-                throw InputError(origin + (lines ? ":" + std::to_string(line) : "") + ": more than " + std::to_string(kMaxDots) +
-                                 " '.' outside comments: keys or tables nested too deeply");
+        if (first < end && text[first] != '#' && header_line(text, first, end)) {
+            if (std::count(text.begin() + long(first), text.begin() + long(end), '.') > kMaxHeaderDots)
+                throw refuse(line, kMaxHeaderDots, "in a table header");
+        } else if (first < end && text[first] != '#') {
+            for (std::size_t i = start; i < end;) {
+                if (!word_char(text[i])) {
+                    ++i;
+                    continue;
+                }
+                std::size_t j = i, word_dots = 0, dot = 0;
+                for (; j < end && word_char(text[j]); ++j)
+                    if (text[j] == '.') ++word_dots, dot = j;
+                const bool decimal_point = word_dots == 1 && dot > i && dot + 1 < j && digit(text[dot - 1]) && digit(text[dot + 1]);
+                if (!decimal_point) dots += long(word_dots);
+                i = j;
+            }
+            if (dots > kMaxDots) throw refuse(line, kMaxDots, "outside comments, numbers and table headers");
         }
         start = end + 1;
     }
 }
 
-void flatten(const toml::table& tbl, const std::string& prefix,
+// The leaves of a table as dotted keys; a key `p` declares as an array of
+// tables is a leaf even when it is written as a table (assign says what it
+// must be).
+void flatten(const toml::table& tbl, const std::string& prefix, const ParamSet& p,
              std::vector<std::pair<std::string, const toml::node*>>& out) {
     for (auto&& [k, v] : tbl) {
         std::string key = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
-        if (const toml::table* sub = v.as_table()) flatten(*sub, key, out);
+        const toml::table* sub = v.as_table();
+        if (sub && !(p.has(key) && p.type(key) == ParamSet::Type::Tables)) flatten(*sub, key, p, out);
         else out.emplace_back(key, &v);
     }
 }
@@ -167,15 +208,53 @@ ParamSet& ParamSet::add_vec3(const std::string& key, std::optional<Vec3d> def, c
     return *this;
 }
 
-void ParamSet::assign(const std::string& key, const void* node_ptr, const std::string& where) {
+ParamSet& ParamSet::add_optional_real(const std::string& key, double min, double max, const std::string& desc) {
+    Decl& d = declare(key, Type::Real, desc);
+    d.min = min;
+    d.max = max;
+    d.unset = "unset";
+    return *this;
+}
+
+ParamSet& ParamSet::add_tables(const std::string& key, const ParamSet& item, const std::string& desc) {
+    Decl& d = declare(key, Type::Tables, desc);
+    d.def.present = true;
+    d.cur = d.def;
+    d.item = std::make_shared<const ParamSet>(item);
+    return *this;
+}
+
+ParamSet& ParamSet::unset_means(const std::string& key, std::string word) {
+    auto it = decls_.find(key);
+    if (it == decls_.end()) throw std::logic_error("parameter not declared: " + key);
+    it->second.unset = std::move(word);
+    return *this;
+}
+
+std::string ParamSet::Source::at(const void* node) const {
+    if (!lines) return name;
+    return where_of(name, *static_cast<const toml::node*>(node));
+}
+
+void ParamSet::assign(const std::string& key, const void* node_ptr, const std::string& where, const Source& source) {
     const toml::node& n = *static_cast<const toml::node*>(node_ptr);
     auto it = decls_.find(key);
-    if (it == decls_.end()) throw InputError(where + ": " + unknown_key_message(key, {this}));
+    if (it == decls_.end()) {
+        if (item_path_.empty()) throw InputError(where + ": " + unknown_key_message(key, {this}));
+        // In a table of an array of tables: the nearest of its keys, else all of them.
+        std::vector<std::string> near;
+        for (const auto& k : nearest_names(key, order_)) near.push_back(display(k));
+        std::string msg = where + ": unknown " + what_ + " key '" + display(key) + "'";
+        if (!near.empty()) throw InputError(msg + did_you_mean(near));
+        std::string list;
+        for (const auto& k : order_) list += (list.empty() ? "" : ", ") + k;
+        throw InputError(msg + " (a table of " + item_path_.substr(0, item_path_.rfind('[')) + " takes " + list + ")");
+    }
     Decl& d = it->second;
     Value v;
     v.present = true;
     auto bad = [&](const std::string& why) {
-        return InputError(where + ": " + what_ + " key '" + key + "' " + why);
+        return InputError(where + ": " + what_ + " key '" + display(key) + "' " + why);
     };
     switch (d.type) {
         case Type::Int: {
@@ -228,6 +307,21 @@ void ParamSet::assign(const std::string& key, const void* node_ptr, const std::s
             }
             break;
         }
+        case Type::Tables: {
+            const std::string shape = "must be an array of tables ([[" + display(key) + "]], or [{...}, {...}])";
+            const toml::array* arr = n.as_array();
+            if (!arr) throw bad(shape);
+            for (std::size_t i = 0; i < arr->size(); ++i) {
+                const toml::table* t = (*arr)[i].as_table();
+                if (!t) throw bad(shape);
+                ParamSet item = *d.item;
+                item.item_path_ = display(key) + "[" + std::to_string(i) + "]";
+                item.item_origin_ = source.at(t);
+                item.assign_table(t, source);
+                v.tables.push_back(std::move(item));
+            }
+            break;
+        }
     }
     d.cur = v;
     d.given = true;
@@ -244,9 +338,13 @@ void ParamSet::load_text(const std::string& text, const std::string& origin) {
         std::string desc(e.description());
         throw InputError(origin + line + ": invalid TOML: " + desc);
     }
+    assign_table(&tbl, Source{origin, true});
+}
+
+void ParamSet::assign_table(const void* table, const Source& source) {
     std::vector<std::pair<std::string, const toml::node*>> leaves;
-    flatten(tbl, "", leaves);
-    for (const auto& [key, node] : leaves) assign(key, node, where_of(origin, *node));
+    flatten(*static_cast<const toml::table*>(table), "", *this, leaves);
+    for (const auto& [key, node] : leaves) assign(key, node, source.at(node), source);
 }
 
 void ParamSet::load_file(const std::string& path) {
@@ -280,7 +378,7 @@ void ParamSet::set(const std::string& assignment, const std::string& option) {
             tbl.insert("v", value);  // not TOML either: a string
         }
     }
-    assign(key, tbl.get("v"), option + " " + key);
+    assign(key, tbl.get("v"), option + " " + key, Source{option + " " + key, false});
 }
 
 std::vector<std::string> ParamSet::keys_with_leaf(const std::string& leaf) const {
@@ -379,6 +477,12 @@ std::string ParamSet::origin(const std::string& key) const {
     auto it = decls_.find(key);
     return it == decls_.end() ? "" : it->second.origin;
 }
+std::optional<double> ParamSet::get_optional_real(const std::string& key) const {
+    const Decl& d = get(key, Type::Real);
+    if (!d.cur.present) return std::nullopt;
+    return d.cur.d;
+}
+const std::vector<ParamSet>& ParamSet::get_tables(const std::string& key) const { return get(key, Type::Tables).cur.tables; }
 std::vector<std::string> ParamSet::keys() const { return order_; }
 const std::string& ParamSet::description(const std::string& key) const { return decls_.at(key).desc; }
 
@@ -392,8 +496,44 @@ std::string ParamSet::value_text(const std::string& key) const {
         case Type::Bool: return v.b ? "true" : "false";
         case Type::String: return quote(v.s);
         case Type::Vec3: return "[" + fmt_real(v.v.x) + ", " + fmt_real(v.v.y) + ", " + fmt_real(v.v.z) + "]";
+        case Type::Tables: {
+            std::string out = "[";
+            for (std::size_t i = 0; i < v.tables.size(); ++i) {
+                const ParamSet& item = v.tables[i];
+                std::string fields;
+                for (const auto& k : item.order_) {
+                    const std::string text = item.value_text(k);
+                    if (!text.empty()) fields += (fields.empty() ? "" : ", ") + k + " = " + text;
+                }
+                out += (i ? ", {" : "{") + fields + "}";
+            }
+            return out + "]";
+        }
     }
     return "";
+}
+
+void ParamSet::dump_item_docs(std::ostream& out, const std::string& indent) const {
+    for (const auto& k : order_) {
+        const Decl& d = decls_.at(k);
+        out << indent << k << ": " << d.desc << "\n";
+        if (d.type == Type::Tables) d.item->dump_item_docs(out, indent + "  ");
+    }
+}
+
+void ParamSet::dump_tables(std::ostream& out, const std::string& path) const {
+    for (const auto& k : order_) {
+        const Decl& d = decls_.at(k);
+        if (d.type != Type::Tables && d.cur.present) out << k << " = " << value_text(k) << "\n";
+    }
+    for (const auto& k : order_) {
+        const Decl& d = decls_.at(k);
+        if (d.type != Type::Tables) continue;
+        for (const ParamSet& item : d.cur.tables) {
+            out << "[[" << path << "." << k << "]]\n";
+            item.dump_tables(out, path + "." + k);
+        }
+    }
 }
 
 std::string ParamSet::dump() const {
@@ -413,13 +553,26 @@ std::string ParamSet::dump() const {
         first = false;
         for (const auto& k : by_section[sec]) {
             const Decl& d = decls_.at(k);
+            if (d.type == Type::Tables) continue;
             std::string name = sec.empty() ? k : k.substr(sec.size() + 1);
             out << "# " << d.desc << "\n";
             if (!d.cur.present) {
-                out << "# " << name << " = (auto)\n";
+                out << "# " << name << " = (" << d.unset << ")\n";
                 continue;
             }
             out << name << " = " << value_text(k) << "\n";
+        }
+        // Arrays of tables last: a [[header]] ends the section's plain keys.
+        for (const auto& k : by_section[sec]) {
+            const Decl& d = decls_.at(k);
+            if (d.type != Type::Tables) continue;
+            out << "# " << d.desc << "; each table:\n";
+            d.item->dump_item_docs(out, "#   ");
+            if (d.cur.tables.empty()) out << "# [[" << k << "]] (none)\n";
+            for (const ParamSet& item : d.cur.tables) {
+                out << "[[" << k << "]]\n";
+                item.dump_tables(out, k);
+            }
         }
     };
     if (by_section.count("")) emit_section("");

@@ -1,6 +1,7 @@
 // fuzz_scene: scene files (ParamSet::load_text on scene_params(), then
-// scene_from_params). The mesh key is forced to "" before the scene is built,
-// so the built-in mesh is used and no file named by the input is ever opened.
+// scene_from_params). The mesh and animation.mesh_sequence keys are forced to
+// "" before the scene is built, so a built-in mesh is used and no file named by
+// the input is ever opened.
 // A scene that loads must be one the front end can render, and dump() must
 // print TOML that reads back to the same values.
 #include <cmath>
@@ -53,6 +54,7 @@ extern "C" int LLVMFuzzerTestOneInput(const unsigned char* data, std::size_t siz
     raplas::ParamSet p = raplas::scene_params();
     if (!raplas::fuzz::guarded(kTarget, [&] { p.load_text(text, "fuzz.toml"); })) return 0;
     p.set("mesh=\"\"");
+    p.set("animation.mesh_sequence=\"\"");
     check_dump(p);
     raplas::fuzz::guarded(kTarget, [&] { check_scene(raplas::scene_from_params(p, "")); });
     return 0;

@@ -476,6 +476,84 @@ TEST_F(ParamsTest, SceneParamsDumpRoundTrips) {
     EXPECT_EQ(q.get_string("mesh"), "");
 }
 
+TEST_F(ParamsTest, ArraysOfTablesReadInlineOrAsHeadersAndDumpBack) {
+    ParamSet key("t");
+    key.add_int("frame", 0, 0, 100, "frame").add_real("v", 1.0, -10.0, 10.0, "a value");
+    ParamSet item("t");
+    item.add_string("name", std::nullopt, "a name").add_tables("keys", key, "keys");
+    ParamSet p("t");
+    p.add_int("n", 1, 0, 9, "n").add_tables("sec.items", item, "items");
+    EXPECT_TRUE(p.get_tables("sec.items").empty());
+    p.load_text("n = 2\n[[sec.items]]\nname = \"a\"\n[[sec.items.keys]]\nframe = 3\n[[sec.items.keys]]\nframe = 4\nv = -2.5\n"
+                "[[sec.items]]\nname = \"b\"\nkeys = [{frame = 7}]\n",
+                "f.toml");
+    const auto& items = p.get_tables("sec.items");
+    ASSERT_EQ(items.size(), 2u);
+    EXPECT_EQ(items[0].item_path(), "sec.items[0]");
+    EXPECT_EQ(items[1].item_origin(), "f.toml:9");
+    EXPECT_EQ(items[0].get_tables("keys")[1].get_real("v"), -2.5);
+    EXPECT_EQ(items[0].get_tables("keys")[1].origin("v"), "f.toml:8");
+    EXPECT_EQ(items[1].get_tables("keys")[0].get_int("frame"), 7);
+    EXPECT_EQ(p.value_text("sec.items"),
+              "[{name = \"a\", keys = [{frame = 3, v = 1.0}, {frame = 4, v = -2.5}]}, {name = \"b\", keys = [{frame = 7, v = 1.0}]}]");
+    const std::string dump = p.dump();
+    EXPECT_THAT(dump, HasSubstr("[[sec.items]]\nname = \"a\"\n[[sec.items.keys]]\nframe = 3\nv = 1.0\n"));
+    ParamSet q = p;
+    q.load_text(dump, "dump");
+    EXPECT_EQ(q.dump(), dump);
+    // --set replaces the whole array
+    q.set("sec.items=[{name = \"c\"}]");
+    ASSERT_EQ(q.get_tables("sec.items").size(), 1u);
+    EXPECT_EQ(q.get_tables("sec.items")[0].get_string("name"), "c");
+    EXPECT_TRUE(q.get_tables("sec.items")[0].get_tables("keys").empty());
+    // an unknown key in a table names its whole path and the keys a table takes; a table alone is no array
+    EXPECT_EQ(error_of([&] { q.load_text("[[sec.items]]\n[[sec.items.keys]]\nframe = 1\ncolour = 2\n", "g.toml"); }),
+              "g.toml:4: unknown t key 'sec.items[0].keys[0].colour' (a table of sec.items[0].keys takes frame, v)");
+    EXPECT_EQ(error_of([&] { q.set("sec.items={name = \"x\"}"); }),
+              "--set sec.items: t key 'sec.items' must be an array of tables ([[sec.items]], or [{...}, {...}])");
+    EXPECT_EQ(error_of([&] { q.set("sec.items=[{keys = [{frame = 101}]}]"); }),
+              "--set sec.items: t key 'sec.items[0].keys[0].frame' = 101 is out of range [0, 100]");
+    // failed loads leave the array alone
+    EXPECT_EQ(q.get_tables("sec.items")[0].get_string("name"), "c");
+}
+
+TEST_F(ParamsTest, OptionalRealsAreUnsetUntilGiven) {
+    ParamSet p("t");
+    p.add_optional_real("r", -1.0, 1.0, "an optional real");
+    EXPECT_FALSE(p.get_optional_real("r").has_value());
+    EXPECT_THAT(p.dump(), HasSubstr("# r = (unset)\n"));
+    p.set("r=0.25");
+    EXPECT_EQ(p.get_optional_real("r"), 0.25);
+    EXPECT_EQ(error_of([&] { p.set("r=2"); }), "--set r: t key 'r' = 2.0 is out of range [-1.0, 1.0]");
+    ParamSet q("t");
+    q.add_optional_real("r", -1.0, 1.0, "an optional real");
+    q.load_text(p.dump(), "dump");
+    EXPECT_EQ(q.get_optional_real("r"), 0.25);
+}
+
+// A file of many keyframes: neither a decimal point nor a table header is a
+// level of nesting, and thousands of them load; dotted keys still count.
+TEST_F(ParamsTest, NumbersAndTableHeadersAreNotNesting) {
+    ParamSet key("t");
+    key.add_int("frame", 0, 0, 100000, "frame").add_vec3("corner", std::nullopt, "corner");
+    ParamSet p = make();
+    p.add_tables("sec.keys", key, "keyframes");
+    std::string text = "count = 5\n";
+    for (int f = 0; f < 3000; ++f) text += "[[sec.keys]]\nframe = " + std::to_string(f) + "\ncorner = [0.5, 4.25, -0.125]\n";
+    p.load_text(text, "many.toml");
+    EXPECT_EQ(p.get_tables("sec.keys").size(), 3000u);
+    const std::string dump = p.dump();
+    ParamSet back = p;
+    back.load_text(dump, "dump");
+    EXPECT_EQ(back.dump(), dump);
+    std::string deep = "a";
+    for (int i = 0; i < 1100; ++i) deep += ".a";
+    std::string header = "[a";
+    for (int i = 0; i < 65; ++i) header += ".a";
+    for (const std::string& bad : {deep + " = 1\n", "[" + deep + "]\n", header + "]\n", "x = [\n[{" + deep + " = 1}]]\n"})
+        EXPECT_THAT(error_of([&] { make().load_text(bad, "deep.toml"); }), HasSubstr("nested too deeply")) << bad.substr(0, 20);
+}
+
 // ---- scene files -------------------------------------------------------------
 
 TEST_F(ParamsTest, SceneFileCameraEyeWithoutLookAtIsAnError) {

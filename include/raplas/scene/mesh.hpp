@@ -22,6 +22,13 @@ struct Mesh {
     std::vector<std::array<std::uint32_t, 3>> triangles;
     std::vector<std::int32_t> triangle_material;  // index into materials, per triangle
     std::vector<Material> materials;              // never empty: [0] is the default
+    // Per triangle, an index into object_names, or kAddedObject for geometry
+    // added to the mesh as loaded (the floor); empty when not recorded.
+    std::vector<std::int32_t> triangle_object;
+    // The OBJ's object and group names (the last `o` or `g` line before a
+    // face), in order of first use; "" for faces before any.
+    std::vector<std::string> object_names;
+    static constexpr std::int32_t kAddedObject = -1;
     std::string source;                           // file path, or "<builtin:NAME>"
     std::vector<std::string> warnings;            // one line each: what was read with a fallback (missing MTL)
 
@@ -42,7 +49,13 @@ Mesh load_obj(const std::string& path);
 Mesh load_obj_text(const std::string& text, const std::string& name, const std::string& mtl_dir);
 
 // Procedural default scene (no file needed): a floor, a back wall, a box and
-// two tessellated spheres. `detail` scales the sphere tessellation.
+// two tessellated spheres (objects "floor", "wall", "box", "big_sphere",
+// "small_sphere"). `detail` scales the sphere tessellation.
 Mesh builtin_mesh(int detail = 3);
+// Procedural deforming mesh: a square grid of 4 * 2^detail cells a side over
+// x, z in [-2, 2] (object "wave"), its heights a travelling wave at `phase`
+// (radians; one period is 2 pi). Every phase gives the same vertices and
+// triangles in the same order.
+Mesh wave_mesh(int detail, double phase);
 
 }  // namespace raplas

@@ -3,6 +3,7 @@
 // (docs/SCENES.md); anything not given is chosen automatically from the mesh.
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -26,6 +27,8 @@ struct AreaLight {
     Vec3d center() const { return corner + edge_u * 0.5 + edge_v * 0.5; }
 };
 
+struct Animation;  // raplas/scene/animation.hpp
+
 struct Scene {
     std::string name;
     Mesh mesh;
@@ -41,6 +44,10 @@ struct Scene {
     double shadow_offset = 1e-4;  // shadow ray origin offset, fraction of the scene's diagonal
     bool skip_facing_away = false;  // no shadow group for hit points facing away from the whole light
     double diagonal = 0;          // of the mesh's bounding box (0: not computed yet)
+    // The [animation] keys (scene_at_frame() makes one frame's scene); null
+    // for a still scene. This scene is the still one: the keys outside
+    // [animation], with frame 0's mesh of a deforming one.
+    std::shared_ptr<const Animation> animation;
 };
 
 // Every scene key with its default, range and description.
@@ -69,8 +76,8 @@ struct SceneRequest {
 // scene. Throws InputError on bad input.
 Scene load_scene(const SceneRequest& req);
 // Writes what the scene chose by itself into `p` (camera, light, the mesh
-// given with --mesh, the name), so that p.dump() is a scene file that gives
-// the same scene.
+// given with --mesh, the name, the animation's resolved values), so that
+// p.dump() is a scene file that gives the same scene.
 void resolve_scene_params(ParamSet& p, const Scene& s, const std::string& mesh_override);
 // Same, from a ParamSet already loaded and overridden.
 Scene scene_from_params(const ParamSet& p, const std::string& mesh_override);

@@ -3,11 +3,14 @@
 // overrides are checked against the declarations (unknown key = error naming
 // the file and line, or the key, and the nearest known keys); dump() prints
 // the resolved set as TOML that is valid input again. Used by scene files and
-// machine configs alike.
+// machine configs alike. A key can also hold an array of tables ([[key]] in a
+// file), each table checked against the keys of an item set.
 #pragma once
 
 #include <cstdint>
+#include <iosfwd>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -19,7 +22,7 @@ namespace raplas {
 
 class ParamSet {
 public:
-    enum class Type { Int, Real, Bool, String, Vec3 };
+    enum class Type { Int, Real, Bool, String, Vec3, Tables };
 
     explicit ParamSet(std::string what) : what_(std::move(what)) {}
     // The command that lists the keys ("raplas simulate --dump-config"): an
@@ -37,6 +40,16 @@ public:
                          std::vector<std::string> choices = {});
     // A vector without a default is optional ("auto" when not given).
     ParamSet& add_vec3(const std::string& key, std::optional<Vec3d> def, const std::string& desc);
+    // A real without a default: unset until given (get_optional_real).
+    ParamSet& add_optional_real(const std::string& key, double min, double max, const std::string& desc);
+    // An array of tables, empty by default: [[key]] in a file, or an inline
+    // array of inline tables (`--set key=[{a = 1}, {a = 2}]`). Each table is
+    // checked against `item`'s keys, which may hold arrays of tables too;
+    // messages name the whole path ("key[1].a"). The item's description is
+    // that of the array.
+    ParamSet& add_tables(const std::string& key, const ParamSet& item, const std::string& desc);
+    // What dump() says of an optional key that is unset ("auto" unless told).
+    ParamSet& unset_means(const std::string& key, std::string word);
 
     // Reads a TOML file; throws InputError "FILE:LINE: ..." on any problem.
     void load_file(const std::string& path);
@@ -52,6 +65,13 @@ public:
     bool get_bool(const std::string& key) const;
     std::string get_string(const std::string& key) const;
     std::optional<Vec3d> get_vec3(const std::string& key) const;
+    std::optional<double> get_optional_real(const std::string& key) const;
+    // The tables of an array of tables, each a set of the item's keys.
+    const std::vector<ParamSet>& get_tables(const std::string& key) const;
+    // A table of an array of tables: its path ("animation.camera[1]") and
+    // where it starts ("FILE:LINE", or the --set option); "" for a whole set.
+    const std::string& item_path() const { return item_path_; }
+    const std::string& item_origin() const { return item_origin_; }
     bool has(const std::string& key) const { return decls_.count(key) != 0; }
     Type type(const std::string& key) const;  // of a declared key
     bool is_given(const std::string& key) const;  // set by a file or --set
@@ -77,6 +97,7 @@ public:
         bool b = false;
         std::string s;
         Vec3d v;
+        std::vector<ParamSet> tables;
     };
 
 private:
@@ -88,15 +109,28 @@ private:
         std::vector<std::string> choices;
         std::string desc;
         std::string origin = "default";
+        std::string unset = "auto";
+        std::shared_ptr<const ParamSet> item;  // Tables: the keys of each table
         bool given = false;
+    };
+    // Where a value comes from: a file (with lines) or an option (without).
+    struct Source {
+        std::string name;
+        bool lines = true;
+        std::string at(const void* node) const;
     };
     Decl& declare(const std::string& key, Type type, const std::string& desc);
     const Decl& get(const std::string& key, Type type) const;
-    void assign(const std::string& key, const void* node, const std::string& where);
+    void assign(const std::string& key, const void* node, const std::string& where, const Source& source);
+    void assign_table(const void* table, const Source& source);
+    std::string display(const std::string& key) const { return item_path_.empty() ? key : item_path_ + "." + key; }
+    void dump_tables(std::ostream& out, const std::string& path) const;
+    void dump_item_docs(std::ostream& out, const std::string& indent) const;
 
     std::string what_;
     std::string listed_by_;
     std::string file_dir_;
+    std::string item_path_, item_origin_;
     std::map<std::string, Decl> decls_;
     std::vector<std::string> order_;
 };
