@@ -1,6 +1,7 @@
 #include "raplas/app/cli.hpp"
 
 #include "commands.hpp"
+#include "frames.hpp"
 #include "config.hpp"
 #include "memory_checks.hpp"
 #include "shard.hpp"
@@ -22,6 +23,7 @@
 #include "raplas/app/processes.hpp"
 #include "raplas/app/reports.hpp"
 #include "raplas/frontend/trace_io.hpp"
+#include "raplas/scene/animation.hpp"
 #include "raplas/util/atomic_file.hpp"
 #include "raplas/util/error.hpp"
 #include "raplas/util/files.hpp"
@@ -39,23 +41,22 @@ double since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-int cmd_render(const SceneOptions& so, const std::string& out_png, const std::string& heatmap,
-               const std::string& hits, const std::string& json) {
-    NumFormat fmt = so.parsed_format();
-    Scene scene;
+// One frame: the image files asked for, the JSON report (as an object) and,
+// unless quiet, the summary.
+nlohmann::json render_one(const Scene& scene, const SceneOptions& so, double load_s, const std::string& out_png,
+                          const std::string& heatmap, const std::string& hits, PhaseProgress* progress) {
+    const NumFormat fmt = so.parsed_format();
     RenderReport rep;
-    if (!so.load(scene, rep.load_s)) return 0;
-    if (!out_png.empty() || !heatmap.empty()) load_image_module();
+    rep.load_s = load_s;
     FrameOptions fo;
     fo.format = fmt;
     fo.threads = so.threads;
     fo.cull = !so.no_cull;
     fo.per_ray = !heatmap.empty();
     check_front_end(FrontEndUse::render, scene, fo);
-    PhaseProgress progress(so.show_progress(), ::isatty(2));
-    fo.progress = std::ref(progress);
+    if (progress) fo.progress = std::ref(*progress);
     Frame frame = render_frame(scene, fo);
-    progress.finish();
+    if (progress) progress->finish();
     auto t0 = std::chrono::steady_clock::now();
     if (!out_png.empty()) write_rgb_image(out_png, frame.width, frame.height, frame.rgb);
     if (!heatmap.empty()) write_heatmap(heatmap, frame.width, frame.height, frame.work_rt);
@@ -66,11 +67,54 @@ int cmd_render(const SceneOptions& so, const std::string& out_png, const std::st
     rep.format = fmt;
     rep.quality = sphere_quality(frame.spheres);
     rep.naive_quality = sphere_quality(build_spheres(scene.mesh, scene.tris_per_sphere, "file-order", frame.sphere_margin));
-    if (!json.empty()) write_file_atomically(json, render_json(rep));
     if (!so.quiet) {
         std::cout << render_summary(rep);
         if (!out_png.empty()) std::cout << "  wrote " << out_png << "\n";
     }
+    return nlohmann::json::parse(render_json(rep));
+}
+
+int cmd_render(const SceneOptions& so_in, std::string out_png, bool out_given, const std::string& heatmap,
+               const std::string& hits, const std::string& json, const std::string& frames) {
+    SceneOptions so = so_in;
+    so.animate = !frames.empty();
+    if (so.animate && so.frame >= 0) throw UsageError("give either --frame F or --frames, not both");
+    (void)so.parsed_format();
+    Scene scene;
+    double load_s = 0;
+    if (!so.load(scene, load_s)) return 0;
+    if (!out_png.empty() || !heatmap.empty()) load_image_module();
+    if (!so.animate) {
+        PhaseProgress progress(so.show_progress(), ::isatty(2));
+        nlohmann::json j = render_one(scene, so, load_s, out_png, heatmap, hits, &progress);
+        if (so.frame >= 0) j["frame"] = so.frame;
+        if (!json.empty()) write_file_atomically(json, j.dump(2) + "\n");
+        return 0;
+    }
+    // --frames: one image (and heat map, hits) per frame, named by a pattern.
+    const FrameRange range = parse_frames(frames, frame_count(scene), scene.name);
+    if (!out_given) out_png = "frame_%04d.png";
+    check_frame_pattern(out_png, "--out");
+    if (!heatmap.empty()) check_frame_pattern(heatmap, "--heatmap");
+    if (!hits.empty()) check_frame_pattern(hits, "--hits");
+    ProgressLine progress(so.show_progress(), ::isatty(2));
+    nlohmann::json all = {{"scene", scene.name},
+                          {"animation", {{"frames", frame_count(scene)}, {"fps", scene.animation ? scene.animation->fps : 0.0}}},
+                          {"frames", nlohmann::json::array()}};
+    const std::size_t n = std::size_t(range.count());
+    for (int f = range.first; f <= range.last; ++f) {
+        progress.draw(std::size_t(f - range.first), n, "frames", "", std::size_t(f - range.first), n);
+        const Scene at = scene_at_frame(scene, f);
+        if (!so.quiet) std::cout << "frame " << f << ": ";
+        nlohmann::json j = render_one(at, so, f == range.first ? load_s : 0.0, frame_file(out_png, f),
+                                      heatmap.empty() ? "" : frame_file(heatmap, f), hits.empty() ? "" : frame_file(hits, f),
+                                      nullptr);
+        j["frame"] = f;
+        all["frames"].push_back(std::move(j));
+    }
+    progress.draw(n, n, "frames", "", n, n);
+    progress.finish();
+    if (!json.empty()) write_file_atomically(json, all.dump(2) + "\n");
     return 0;
 }
 
@@ -122,6 +166,10 @@ void SceneOptions::add_to(CLI::App* cmd, bool with_format) {
         ->check(CLI::Range(0u, 1024u));
     cmd->add_flag("--no-cull", no_cull,
                   "front end: test every sphere against every group (results are identical; only slower)");
+    cmd->add_option("--frame", frame,
+                    "draw frame F of the scene's animation instead of the still scene (the built-in scene: its "
+                    "built-in animation; docs/SCENES.md, \"Animation\")")
+        ->check(CLI::Range(0, kMaxFrames - 1));
     cmd->add_flag("--dump-scene", dump_scene, "print the resolved scene as TOML and exit");
     cmd->add_flag("-q,--quiet", quiet, "no summary on stdout");
     cmd->add_flag("--progress", progress,
@@ -159,6 +207,11 @@ bool SceneOptions::load(Scene& out, double& load_s, const std::function<void(Par
             throw;
         }
     }
+    if ((frame >= 0 || animate) && scene.empty() && mesh.empty()) {
+        bool animation_given = false;
+        for (const auto& k : p.keys()) animation_given = animation_given || (k.rfind("animation.", 0) == 0 && p.is_given(k));
+        if (!animation_given) p.set("animation.builtin=default");
+    }
     if (adjust) adjust(p);
     out = scene_from_params(p, mesh);
     if (dump_scene) {  // what was chosen automatically, as values that can be pasted into a scene file
@@ -167,6 +220,16 @@ bool SceneOptions::load(Scene& out, double& load_s, const std::function<void(Par
         return false;
     }
     for (const auto& w : out.mesh.warnings) std::cerr << "raplas: warning: " << InputError::printable(w) << "\n";
+    frames_in_animation = frame_count(out);
+    animation_fps = out.animation ? out.animation->fps : 0.0;
+    if (frame >= 0) {
+        const int n = frame_count(out);
+        if (frame >= n)
+            throw InputError("--frame " + std::to_string(frame) + ": the scene '" + out.name + "' has " + std::to_string(n) +
+                             (n == 1 ? " frame (it is not animated: docs/SCENES.md, \"Animation\")"
+                                     : " frames (0 to " + std::to_string(n - 1) + ")"));
+        out = scene_at_frame(out, frame);
+    }
     load_s = since(t0);
     return true;
 }
@@ -275,6 +338,10 @@ int run_cli(int argc, char** argv) {
     render->add_option("--heatmap", heatmap, "per-pixel work heat map (ray-triangle tests, log scale) PNG");
     render->add_option("--hits", hits, "CSV, one row per primary ray: x,y,ox,oy,oz,dx,dy,dz,tri,t");
     render->add_option("--json", json, "counts and per-phase wall time as JSON");
+    std::string render_frames;
+    render->add_option("--frames", render_frames,
+                       "render frames of the scene's animation: N (frames 0 to N-1), A:B (both included) or all; "
+                       "--out (default frame_%04d.png), --heatmap and --hits are then patterns with a %d for the frame");
 
     SceneOptions trace_so;
     std::string trace_out, trace_json, trace_select = "any";
@@ -335,7 +402,7 @@ int run_cli(int argc, char** argv) {
             parse_memory_size(max_memory, "--max-memory");
             ::setenv("RAPLAS_MAX_MEMORY", max_memory.c_str(), 1);
         }
-        if (render->parsed()) return cmd_render(render_so, out_png, heatmap, hits, json);
+        if (render->parsed()) return cmd_render(render_so, out_png, render->count("--out") > 0, heatmap, hits, json, render_frames);
         if (trace->parsed()) return cmd_trace(trace_so, trace_out, trace_json, trace_select);
         if (simulate->parsed()) return cmd_simulate(sim);
         if (sweep->parsed()) return cmd_sweep(sweep_args);

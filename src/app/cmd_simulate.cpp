@@ -11,6 +11,7 @@
 
 #include "baseline_memory.hpp"
 #include "commands.hpp"
+#include "frames.hpp"
 #include "config.hpp"
 #include "memory_checks.hpp"
 #include "raplas/app/progress.hpp"
@@ -108,6 +109,12 @@ void add_simulate_options(CLI::App* cmd, SimulateArgs& a) {
     cmd->add_flag("--whole-frame", a.whole_frame,
                   "trace the whole frame before the model starts instead of streaming its groups (the same results; "
                   "memory grows with the image)");
+    cmd->add_option("--frames", a.frames,
+                    "simulate frames of the scene's animation, each in its own process: N (frames 0 to N-1), A:B "
+                    "(both included) or all; the JSON gets a frames array and totals, the CSV a row per frame "
+                    "(docs/ANIMATION.md)");
+    cmd->add_option("--jobs,-j", a.jobs, "with --frames: frames simulated at once (default: the number of cores)")
+        ->check(CLI::Range(1u, 1024u));
     cmd->add_flag("--dump-config", a.dump_config, "print the resolved machine config as TOML and exit");
     // --set goes to the machine config when it names a config key, else to the scene.
     cmd->remove_option(cmd->get_option("--set"));
@@ -144,6 +151,7 @@ int cmd_simulate(const SimulateArgs& a) {
         return 0;
     }
     const model::SimConfig cfg = model::config_from_params(mp);
+    if (!a.frames.empty()) return simulate_frames(a, so);
     if (a.shards || !a.emit_jobs.empty()) return emit_shard_jobs(a, mp, cfg);
     const bool sharded = !a.shard.empty();
     ShardSpec shard;
@@ -165,7 +173,9 @@ int cmd_simulate(const SimulateArgs& a) {
     FrontEndThread frontend;  // (joined before the stream and the progress line go)
     ProgressLine model_progress(so.show_progress(), ::isatty(2));
     double frontend_s = 0;
+    nlohmann::json animation;  // with --frame: the animation's frame count and rate
     if (!a.trace.empty()) {
+        if (so.frame >= 0) throw UsageError("--frame F draws a frame of a scene; a trace holds one frame already");
         if (!so.scene.empty() || !so.mesh.empty()) throw UsageError("give either --trace or --scene/--mesh, not both");
         struct stat st{};
         if (::stat(a.trace.c_str(), &st) == 0 && S_ISREG(st.st_mode)) check_trace_read(a.trace, std::uint64_t(st.st_size));
@@ -184,6 +194,7 @@ int cmd_simulate(const SimulateArgs& a) {
             if (cfg.triangles_per_sphere) p.set("spheres.triangles_per_sphere=" + std::to_string(cfg.triangles_per_sphere));
         };
         if (!so.load(scene, load_s, adjust)) return 0;
+        if (so.frame >= 0) animation = {{"frames", so.frames_in_animation}, {"fps", so.animation_fps}};
         FrameOptions fo;
         fo.format = cfg.format;
         fo.threads = so.threads;
@@ -290,6 +301,7 @@ int cmd_simulate(const SimulateArgs& a) {
         return 0;
     }
     nlohmann::json j = sim_json(in);
+    if (so.frame >= 0) j["frame"] = so.frame, j["animation"] = animation;
     if (!a.json.empty()) write_file_atomically(a.json, j.dump(2) + "\n");
     if (!a.csv.empty()) write_file_atomically(a.csv, sim_csv_header() + sim_csv_row(j));
     if (!so.quiet) std::cout << sim_summary(j);

@@ -20,13 +20,21 @@ struct SceneOptions {
     bool no_cull = false;
     bool quiet = false;
     bool progress = false;  // --progress: also when stderr is not a terminal
+    int frame = -1;         // --frame F: frame F of the scene's animation instead of the still scene
+    bool animate = false;   // the command draws frames (--frames): the built-in scene gets its animation
+    // Set by load(): the loaded scene's frame count and rate (before --frame picks one).
+    mutable int frames_in_animation = 1;
+    mutable double animation_fps = 0;
 
     void add_to(CLI::App* cmd, bool with_format = true);
     // Progress lines on stderr: asked for, or stderr is a terminal and not -q.
     bool show_progress() const;
     NumFormat parsed_format() const;
     // Loads the scene parameters (file, then --set), letting `adjust` change
-    // them before the scene is built. Returns false when --dump-scene printed them.
+    // them before the scene is built. Returns false when --dump-scene printed
+    // them. With --frame F the scene is that frame's; with --frame or
+    // `animate`, the built-in scene given no [animation] key gets
+    // animation.builtin = default.
     bool load(Scene& out, double& load_s, const std::function<void(ParamSet&)>& adjust = {}) const;
 };
 
@@ -39,6 +47,8 @@ struct SimulateArgs {
     std::vector<std::string> config_sets;
     std::uint32_t iccs = 0;  // 0: from the config
     std::uint32_t fifo = 0;  // 0: from the config
+    std::string frames;        // --frames N|A:B|all: simulate these frames, each in its own process
+    unsigned jobs = 0;         // with --frames: frames simulated at once (0: number of cores)
     std::uint32_t window = 4;  // passes the front end may trace ahead of the model
     bool whole_frame = false;  // trace the whole frame first instead of streaming it
     bool dump_config = false;

@@ -3,6 +3,8 @@
 // simulation.
 #include "shard.hpp"
 
+#include "frames.hpp"
+
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -279,7 +281,9 @@ std::vector<const Part*> check_parts(const std::vector<Part>& parts) {
     return by_shard;
 }
 
-void check_out_path(const std::string& option, const std::string& out, const std::vector<std::string>& parts) {
+}  // namespace
+
+void check_result_path(const std::string& option, const std::string& out, const std::vector<std::string>& parts) {
     if (out.empty()) return;
     std::error_code ec;
     if (fs::is_directory(out, ec)) throw InputError(option + " " + out + ": is a directory");
@@ -289,8 +293,6 @@ void check_out_path(const std::string& option, const std::string& out, const std
     for (const auto& p : parts)
         if (fs::equivalent(p, out, ec)) throw InputError(option + " " + out + ": is one of the partial results");
 }
-
-}  // namespace
 
 // ---- simulate --shard ------------------------------------------------------------
 
@@ -385,9 +387,10 @@ void add_merge_options(CLI::App* cmd, MergeArgs& a) {
 
 int cmd_merge(const MergeArgs& a) {
     if (a.parts.empty()) throw InputError("merge: give the partial results of simulate --shard I/N, every shard's --json");
+    if (is_frame_result(a.parts[0])) return merge_frames(a);
     if (a.json.empty() && a.csv.empty()) throw InputError("merge: give --json OUT.json, --csv OUT.csv or both");
-    check_out_path("--json", a.json, a.parts);
-    check_out_path("--csv", a.csv, a.parts);
+    check_result_path("--json", a.json, a.parts);
+    check_result_path("--csv", a.csv, a.parts);
     std::vector<Part> parts;
     for (const auto& f : a.parts) parts.push_back(read_part(f));
     const std::vector<const Part*> shards = check_parts(parts);
@@ -579,8 +582,8 @@ int emit_shard_jobs(const SimulateArgs& a, const ParamSet& mp, const model::SimC
     if (a.json.empty() && a.csv.empty())
         throw InputError("--emit-jobs: give --json OUT.json, --csv OUT.csv or both: what the merge writes");
     check_shardable(cfg, "--shards");
-    check_out_path("--json", a.json, {});
-    check_out_path("--csv", a.csv, {});
+    check_result_path("--json", a.json, {});
+    check_result_path("--csv", a.csv, {});
     const SceneOptions& so = a.so;
     if (!a.trace.empty() && (!so.scene.empty() || !so.mesh.empty()))
         throw InputError("give either --trace or --scene/--mesh, not both");

@@ -43,6 +43,10 @@ std::string shard_summary(const PartialInput& in, const std::string& json_path);
 // resolved machine config, `cfg` the config from it.
 int emit_shard_jobs(const SimulateArgs& a, const ParamSet& mp, const model::SimConfig& cfg);
 
+// InputError when `out`, given to `option`, cannot be written: a directory,
+// in a directory that does not exist, or one of the `parts` read.
+void check_result_path(const std::string& option, const std::string& out, const std::vector<std::string>& parts);
+
 struct MergeArgs {
     std::vector<std::string> parts;
     std::string json, csv;
