@@ -364,7 +364,12 @@ public:
         auto t0 = clock_type::now();
         scene_ = rtcNewScene(dev.get());
         geom_ = rtcNewGeometry(dev.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
-        if (quality != RTC_BUILD_QUALITY_MEDIUM) rtcSetGeometryBuildQuality(geom_, quality);
+        if (quality == RTC_BUILD_QUALITY_REFIT) {
+            // Embree honours a geometry's build quality only in a scene of
+            // quality LOW (a two-level structure, one BVH per geometry).
+            rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_LOW);
+            rtcSetGeometryBuildQuality(geom_, quality);
+        }
         vertices_ = static_cast<float*>(rtcSetNewGeometryBuffer(geom_, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                                 4 * sizeof(float), mesh.vertices.size()));
         vertex_count_ = mesh.vertices.size();
@@ -828,7 +833,8 @@ void print_markdown(const std::vector<SceneResult>& rs, const std::string& comma
                      "also rebuilt every frame. Transform, transform + radius, refit: refit_spheres() from frame 0's "
                      "spheres (\"-\": no rigid motion to carry). Embree build: rtcCommitScene of a new scene "
                      "(default quality; copying the mesh into its buffers is not included: build_fill_s in the JSON); Embree refit: rtcUpdateGeometryBuffer + rtcCommitGeometry + rtcCommitScene of "
-                     "an RTC_BUILD_QUALITY_REFIT geometry (\"-\": topology changed). RAPLAS rays: render_frame()'s "
+                     "an RTC_BUILD_QUALITY_REFIT geometry in a scene of RTC_BUILD_QUALITY_LOW, which Embree needs to honour it "
+                     "(\"-\": topology changed). RAPLAS rays: render_frame()'s "
                      "primary + shadow + shading phases; Embree rays: the same primary and shadow rays.\n\n";
         std::cout << "| frame | primary rays | shadow groups | shadow rays | plane-sphere tests | ray-triangle tests "
                      "| RAPLAS primary / shadow / shading | Embree primary / shadow | hit/miss differ | distance differs "
