@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <stdexcept>
+#include <string>
 
 #include "raplas/util/parallel.hpp"
 
@@ -154,6 +156,76 @@ SphereSet build_spheres(const Mesh& mesh, int tris_per_sphere, const std::string
             s.tri_sphere[i] = static_cast<std::uint32_t>(j);
         }
         s.spheres[j] = enclose(pts, tight, margin);
+    });
+    return s;
+}
+
+SphereSet refit_spheres(const SphereSet& prev, double prev_margin, const Mesh& mesh,
+                        const std::vector<std::int32_t>& tri_motion, const std::vector<RigidMotion>& motions,
+                        SphereRefit mode, const std::string& method, double margin, unsigned threads) {
+    const std::size_t nt = prev.triangles.size(), ns = prev.spheres.size();
+    if (mesh.triangle_count() != nt)
+        throw std::invalid_argument("refit_spheres: the mesh has " + std::to_string(mesh.triangle_count()) +
+                                    " triangles, the spheres " + std::to_string(nt));
+    if (!tri_motion.empty() && tri_motion.size() != nt)
+        throw std::invalid_argument("refit_spheres: tri_motion needs one entry per triangle");
+    const bool tight = method != "file-order";
+    SphereSet s;
+    s.spheres.resize(ns);
+    s.first_tri = prev.first_tri;
+    s.tri_count = prev.tri_count;
+    s.triangles.resize(nt);
+    s.tri_mesh_index = prev.tri_mesh_index;
+    s.tri_sphere = prev.tri_sphere;
+    // The motion every triangle of sphere j shares, or -1.
+    auto shared_motion = [&](std::size_t j) -> std::int32_t {
+        if (tri_motion.empty() || mode == SphereRefit::enclose) return -1;
+        const std::size_t lo = prev.first_tri[j], hi = lo + prev.tri_count[j];
+        const std::int32_t k = tri_motion[static_cast<std::size_t>(prev.tri_mesh_index[lo])];
+        if (k < 0 || static_cast<std::size_t>(k) >= motions.size()) return -1;
+        for (std::size_t i = lo + 1; i < hi; ++i)
+            if (tri_motion[static_cast<std::size_t>(prev.tri_mesh_index[i])] != k) return -1;
+        return k;
+    };
+    parallel_for(ns, threads, [&](std::size_t j) {
+        const std::size_t lo = prev.first_tri[j], hi = lo + prev.tri_count[j];
+        for (std::size_t i = lo; i < hi; ++i)
+            s.triangles[i] = make_triangle_record(mesh, static_cast<std::size_t>(prev.tri_mesh_index[i]));
+        thread_local std::vector<Vec3d> pts;
+        auto moved_corners = [&] {
+            pts.clear();
+            for (std::size_t i = lo; i < hi; ++i)
+                for (int c = 0; c < 3; ++c) pts.push_back(to_d(mesh.corner(static_cast<std::size_t>(prev.tri_mesh_index[i]), c)));
+        };
+        const std::int32_t k = shared_motion(j);
+        if (k < 0) {
+            moved_corners();
+            s.spheres[j] = enclose(pts, tight, margin);
+            return;
+        }
+        const RigidMotion& m = motions[static_cast<std::size_t>(k)];
+        const Sphere& old = prev.spheres[j];
+        if (m.identity() && margin == prev_margin) {
+            s.spheres[j] = old;
+            return;
+        }
+        Sphere out;
+        out.c = to_f(m.apply(to_d(old.c)));
+        if (mode == SphereRefit::transform_radius) {
+            moved_corners();
+            out.r = std::nextafter(float(radius_about(to_d(out.c), pts) + margin), INFINITY);
+        } else {
+            // |v' - c'| <= scale (r - prev_margin) + |v' - T v| + |c' - T c|. Each
+            // moved point is T computed in double (relative error far below
+            // 2^-40 of the magnitudes that enter it) and rounded to float
+            // (at most 2^-24 of its length); |T v| <= |c'| + scale r.
+            const double sr = std::fabs(m.scale) * double(old.r);
+            const double inputs = max_abs(m.pivot) + max_abs(m.translate) +
+                                  std::fabs(m.scale) * (max_abs(to_d(old.c)) + max_abs(m.pivot) + double(old.r));
+            const double allowance = 0x1p-22 * (length(to_d(out.c)) + sr) + 0x1p-40 * (4 * inputs + margin);
+            out.r = std::nextafter(float(std::fabs(m.scale) * (double(old.r) - prev_margin) + allowance + margin), INFINITY);
+        }
+        s.spheres[j] = out;
     });
     return s;
 }

@@ -41,6 +41,64 @@ SphereSet build_spheres(const Mesh& mesh, int tris_per_sphere, const std::string
                         unsigned threads = 1);
 SphereQuality sphere_quality(const SphereSet& s);
 
+// A rigid motion with a uniform scale, in the form the animation applies to
+// an object (raplas/scene/animation.hpp, ObjectTrack): a point p goes to
+// pivot + translate + R (scale (p - pivot)), R the rotation matrix r.
+struct RigidMotion {
+    Vec3d pivot{0, 0, 0}, translate{0, 0, 0};
+    double scale = 1;
+    bool rotates = false;  // r is used (else R is the identity)
+    double r[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+
+    // In double, with the animation's order of operations.
+    Vec3d apply(const Vec3d& p) const {
+        if (!rotates && scale == 1) return p + translate;
+        Vec3d d = (p - pivot) * scale;
+        if (rotates)
+            d = {r[0][0] * d.x + r[0][1] * d.y + r[0][2] * d.z, r[1][0] * d.x + r[1][1] * d.y + r[1][2] * d.z,
+                 r[2][0] * d.x + r[2][1] * d.y + r[2][2] * d.z};
+        return pivot + d + translate;
+    }
+    // No motion at all: apply() returns p itself.
+    bool identity() const { return !rotates && scale == 1 && translate == Vec3d(0, 0, 0); }
+};
+
+// How refit_spheres() gets a sphere whose triangles all share one rigid motion.
+enum class SphereRefit {
+    // Centre moved by the motion (rounded to float), radius scaled by its
+    // scale plus an allowance for the rounding of the moved centre and corners:
+    // no corner is read.
+    transform,
+    // Centre moved by the motion, radius recomputed about it from the moved
+    // corners (as build_spheres() does about its centre).
+    transform_radius,
+    // Every sphere fitted again to its moved triangles, as build_spheres()
+    // fits one (the motions are not used).
+    enclose,
+};
+
+// The spheres of `prev` (build_spheres() of an earlier mesh with margin
+// `prev_margin`) carried to `mesh`, the same triangles moved: the grouping
+// of triangles into spheres and the Sphere and Triangle Memory order are
+// prev's (no new median split); the Triangle Memory records are made from
+// `mesh`. tri_motion gives, per mesh triangle, an index into `motions` or -1
+// for a triangle moved otherwise (empty: every one -1). A sphere whose
+// triangles all share a motion k is carried by motions[k] as `mode` says,
+// and kept as it is when that motion is the identity and the margin is
+// unchanged; any other sphere is fitted again to its moved triangles.
+//
+// The transform mode encloses the moved triangles, with `margin` to spare,
+// when each moved corner is the float rounding of motions[k].apply() of the
+// earlier corner (as scene_at_frame() moves an object): then
+// |v' - c'| <= scale |v - c| + rounding of v' and c', and the allowance covers
+// that rounding. The result is a valid sphere set, but not the one
+// build_spheres(mesh) gives: the median split depends on the axes, so a
+// rotation changes the grouping and order, and a centre moved and rounded
+// differs in its last bits from one fitted to the rounded moved corners.
+SphereSet refit_spheres(const SphereSet& prev, double prev_margin, const Mesh& mesh,
+                        const std::vector<std::int32_t>& tri_motion, const std::vector<RigidMotion>& motions,
+                        SphereRefit mode, const std::string& method, double margin, unsigned threads = 1);
+
 // Triangle Memory record of mesh triangle i (edges and normal in double,
 // stored as float).
 TriangleRec make_triangle_record(const Mesh& mesh, std::size_t i);
