@@ -170,6 +170,7 @@ int cmd_simulate(const SimulateArgs& a) {
     std::unique_ptr<GroupSource> source;
     GroupStream* stream = nullptr;
     std::unique_ptr<StreamProgress> stream_progress;
+    Scene streamed_scene;     // the scene the streaming front end draws (outlives its thread)
     FrontEndThread frontend;  // (joined before the stream and the progress line go)
     ProgressLine model_progress(so.show_progress(), ::isatty(2));
     double frontend_s = 0;
@@ -210,16 +211,18 @@ int cmd_simulate(const SimulateArgs& a) {
             stream = owned.get();
             source = std::move(owned);
             fo.stream = stream;
-            check_front_end(FrontEndUse::simulate_streamed, scene, fo, &cfg, a.window);
+            // fo.before_shadow, called on the front end's thread, keeps a pointer to the scene.
+            streamed_scene = std::move(scene);
+            check_front_end(FrontEndUse::simulate_streamed, streamed_scene, fo, &cfg, a.window);
             if (so.show_progress()) {
                 stream_progress = std::make_unique<StreamProgress>(::isatty(2));
                 fo.progress = [p = stream_progress.get()](const char* phase, std::size_t done, std::size_t total) {
                     p->front_end(phase, done, total);
                 };
             }
-            scene_name = scene.name;
-            frontend.start(*stream, [scene = std::move(scene), fo, t0, &frontend_s] {
-                render_frame(scene, fo);
+            scene_name = streamed_scene.name;
+            frontend.start(*stream, [&streamed_scene, fo, t0, &frontend_s] {
+                render_frame(streamed_scene, fo);
                 frontend_s = std::chrono::duration<double>(clock::now() - t0).count();
             });
         } else {
