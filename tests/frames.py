@@ -107,6 +107,29 @@ with tempfile.TemporaryDirectory() as d:
     out = run(["merge", "f1.json", "other.json", "--json", "m.json"], d, expect=2)
     check("another run" in out.stderr, "merge of frames of two runs refused")
 
+    # a sweep of a still and an animated scene: a row per point, the animated one the totals of its frames
+    with open(os.path.join(d, "still.toml"), "w") as fh:
+        fh.write('name = "still"\n')
+    with open(os.path.join(d, "anim.toml"), "w") as fh:
+        fh.write('name = "anim"\n[animation]\nbuiltin = "default"\nframes = 3\n')
+    run(["sweep", "--scene", "still.toml", "--scene", "anim.toml", "--iccs", "1,3", "--fifo", "8", "--out", "sw.csv",
+         "-q"] + scene, d)
+    with open(os.path.join(d, "sw.csv")) as fh:
+        rows = list(csv.DictReader(fh))
+    check(len(rows) == 4 and [r["scene"] for r in rows] == ["still", "still", "anim", "anim"], "sweep: 4 rows in order")
+    for r in rows:
+        if r["scene"] == "still":
+            check(r["frames"] == "1" and r["worst_frame_cycles"] == r["total_cycles"],
+                  f"sweep, still scene at {r['iccs']} ICCs: one frame, the worst is the run")
+            continue
+        run(["simulate", "--scene", "anim.toml", "--frames", "all", "--iccs", r["iccs"], "--fifo", "8", "--json",
+             "a.json", "-q"] + scene, d)
+        t = load(os.path.join(d, "a.json"))["totals"]
+        check(r["frames"] == "3" and int(r["total_cycles"]) == t["total_cycles"] and int(r["passes"]) == t["passes"]
+              and int(r["worst_frame"]) == t["worst_frame"] and int(r["worst_frame_cycles"]) == t["worst_frame_cycles"],
+              f"sweep, animated scene at {r['iccs']} ICCs: the row holds the totals and the worst frame of --frames all")
+    check(float(rows[3]["speedup"]) > 1, "sweep: the animation's speedup over its smallest ICC count")
+
     # the job list through GNU parallel
     if shutil.which("parallel"):
         run(["simulate", "--frames", "1:3", "--emit-jobs", "jobs.txt", "--json", "jobs.json", "--csv", "jobs.csv", "-q"]

@@ -115,6 +115,10 @@ void add_simulate_options(CLI::App* cmd, SimulateArgs& a) {
                     "(docs/ANIMATION.md)");
     cmd->add_option("--jobs,-j", a.jobs, "with --frames: frames simulated at once (default: the number of cores)")
         ->check(CLI::Range(1u, 1024u));
+    cmd->add_flag("--animation-row", a.animation_row,
+                  "--csv writes one row with the columns frames, worst_frame, worst_frame_cycles and "
+                  "worst_fps_at_clock added; with --frames the row of the totals (what a sweep of animated scenes "
+                  "reads: docs/ANIMATION.md)");
     cmd->add_flag("--dump-config", a.dump_config, "print the resolved machine config as TOML and exit");
     // --set goes to the machine config when it names a config key, else to the scene.
     cmd->remove_option(cmd->get_option("--set"));
@@ -306,7 +310,10 @@ int cmd_simulate(const SimulateArgs& a) {
     nlohmann::json j = sim_json(in);
     if (so.frame >= 0) j["frame"] = so.frame, j["animation"] = animation;
     if (!a.json.empty()) write_file_atomically(a.json, j.dump(2) + "\n");
-    if (!a.csv.empty()) write_file_atomically(a.csv, sim_csv_header() + sim_csv_row(j));
+    if (!a.csv.empty())
+        write_file_atomically(a.csv, a.animation_row ? animation_row_csv(j, 1, std::max(so.frame, 0), result.total_cycles,
+                                                                         j["time_ms"].get<double>())
+                                                     : sim_csv_header() + sim_csv_row(j));
     if (!so.quiet) std::cout << sim_summary(j);
     if (result.functional_checked && !result.functional_match) {
         std::cerr << "raplas: error: functional mismatch: " << result.rays_mismatched << " of " << result.rays_checked

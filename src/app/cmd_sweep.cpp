@@ -67,6 +67,7 @@ struct TraceJob {
     std::vector<std::string> sets;  // scene --set and --vary values, then the config's workload keys
     std::string format;             // numerics.format
     bool any = false;               // some point needs the pair-less spheres (icc.triangle_select = any)
+    bool animated = false;          // an animated scene: its points simulate every frame, with no trace
 };
 
 struct Sweep {
@@ -78,6 +79,7 @@ struct Sweep {
     std::vector<std::size_t> trace_of;                  // per input x combo
     std::string wd;                                     // absolute
     json spec;
+    bool animated = false;                              // some input is animated: rows get the frame columns
 
     std::size_t points() const { return layout.points(); }
     std::size_t point_trace(std::size_t i) const {
@@ -100,6 +102,14 @@ struct Sweep {
     std::vector<std::string> point_argv(std::size_t i) const {
         const auto d = layout.digits(i);
         std::vector<std::string> v{"simulate", "--trace", trace_file(point_trace(i))};
+        const TraceJob& t = traces[point_trace(i)];
+        if (t.animated) {  // the whole animation, each frame traced by the point itself (docs/ANIMATION.md)
+            const Input& in = inputs[t.input];
+            v = {"simulate"};
+            if (in.kind != "builtin") v.insert(v.end(), {"--" + in.kind, in.path});
+            for (const auto& x : t.sets) v.insert(v.end(), {"--set", x});
+            v.insert(v.end(), {"--frames", "all", "--jobs", "1"});
+        }
         if (!config.empty()) v.insert(v.end(), {"--config", config});
         for (const auto& x : config_sets) v.insert(v.end(), {"--set", x});
         for (std::size_t k = 0; k < layout.vary.size(); ++k)
@@ -109,6 +119,7 @@ struct Sweep {
         if (iccs) v.insert(v.end(), {"--iccs", std::to_string(iccs)});
         if (fifo) v.insert(v.end(), {"--fifo", std::to_string(fifo)});
         v.insert(v.end(), {"--csv", point_csv(i), "-q"});
+        if (animated) v.push_back("--animation-row");
         return v;
     }
     std::string describe(std::size_t i) const {
@@ -297,6 +308,15 @@ Sweep make_sweep(const SweepArgs& a, const std::string& wd) {
             check.load_file(in.path);
         }
         inputs.push_back({{"kind", in.kind}, {"path", absolute_path(in.path)}, {"hash", file_hash(in.path)}});
+    }
+    // An animated workload: its scene (file and --set/--vary keys) gives an animation key.
+    for (TraceJob& t : sw.traces) {
+        const Input& in = sw.inputs[t.input];
+        ParamSet p = scene_params();
+        if (in.kind == "scene") p.load_file(in.path);
+        for (const auto& x : t.sets) p.set(x);
+        for (const auto& k : p.keys()) t.animated = t.animated || (k.rfind("animation.", 0) == 0 && p.is_given(k));
+        sw.animated = sw.animated || t.animated;
     }
     sw.spec = {{"sweep_format", kSpecVersion},
                {"raplas", RAPLAS_VERSION},
@@ -553,7 +573,7 @@ int run_sweep(const Sweep& sw, const SweepArgs& a) {
     for (std::size_t s = 0; s < ns; ++s) {
         bool needed = false;
         for (std::size_t i = 0; i < n; ++i) needed = needed || (point[i] == St::pending && sw.point_trace(i) == s);
-        if (needed && !is_file(sw.trace_file(s))) {
+        if (needed && !sw.traces[s].animated && !is_file(sw.trace_file(s))) {
             trace[s] = St::pending;
             ++pr.traces_total;
         }
@@ -689,7 +709,9 @@ int emit_jobs(const Sweep& sw, const SweepArgs& a) {
         return cd + "{ test -f " + shell_quote(product) + " || " + shell_quote(exe) + " " + shell_join(argv) + "; }\n";
     };
     std::string traces, points;
-    for (std::size_t s = 0; s < sw.traces.size(); ++s) traces += line(sw.trace_file(s), sw.trace_argv(s));
+    std::size_t trace_jobs = 0;
+    for (std::size_t s = 0; s < sw.traces.size(); ++s)
+        if (!sw.traces[s].animated) traces += line(sw.trace_file(s), sw.trace_argv(s)), ++trace_jobs;
     for (std::size_t i = 0; i < sw.points(); ++i) points += line(sw.point_csv(i), sw.point_argv(i));
     const std::string traces_file = a.emit_jobs + ".traces";
     write_file_atomically(traces_file, traces);
@@ -700,7 +722,7 @@ int emit_jobs(const Sweep& sw, const SweepArgs& a) {
                     "  parallel < %s && parallel < %s\n"
                     "then gather the results (docs/SWEEPS.md):\n"
                     "  %s sweep --merge --work-dir %s --out %s\n",
-                    traces_file.c_str(), lines(sw.traces.size()).c_str(), a.emit_jobs.c_str(),
+                    traces_file.c_str(), lines(trace_jobs).c_str(), a.emit_jobs.c_str(),
                     lines(sw.points()).c_str(),
                     shell_quote(traces_file).c_str(), shell_quote(a.emit_jobs).c_str(), shell_quote(exe).c_str(),
                     shell_quote(sw.wd).c_str(), shell_quote(a.out).c_str());

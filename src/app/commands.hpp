@@ -52,6 +52,7 @@ struct SimulateArgs {
     std::uint32_t window = 4;  // passes the front end may trace ahead of the model
     bool whole_frame = false;  // trace the whole frame first instead of streaming it
     bool dump_config = false;
+    bool animation_row = false;  // --animation-row: the CSV row a sweep of animated scenes reads
 };
 
 // A machine config: a file, or a name in configs/ (the working directory's,

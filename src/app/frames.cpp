@@ -137,6 +137,70 @@ nlohmann::json frames_json(const std::vector<nlohmann::json>& per_frame) {
     return j;
 }
 
+nlohmann::json animation_totals_json(const std::vector<nlohmann::json>& per_frame) {
+    using ptr = nlohmann::json::json_pointer;
+    nlohmann::json t = per_frame.at(0);
+    t.erase("iccs_detail");
+    t.erase("pass_cycles");
+    t.erase("first_mismatch");
+    t.erase("frame");
+    static const char* const sums[] = {
+        "/total_cycles", "/time_ms", "/passes", "/primary_passes", "/ray_groups", "/primary_groups",
+        "/workload/plane_sphere_tests", "/workload/sphere_hits", "/workload/ray_triangle_tests",
+        "/workload/pairless_spheres", "/links/sphere/records_sent", "/links/sphere/stall_cycles",
+        "/links/sphere/idle_cycles", "/links/sphere/bytes", "/links/triangle/records_sent",
+        "/links/triangle/stall_cycles", "/links/triangle/idle_cycles", "/links/triangle/bytes", "/links/output/bytes",
+        "/icc_totals/rti_busy_cycles", "/icc_totals/blocked_triangle_fifo_full", "/icc_totals/blocked_undecided",
+        "/icc_totals/blocked_sphere_fifo_full", "/memory/sphere_records_read", "/memory/triangle_records_read",
+        "/memory/memory_bound_cycles", "/memory/pe_bound_cycles", "/rays_checked", "/rays_mismatched"};
+    static const char* const maxima[] = {"/icc_totals/max_triangle_fifo_occupancy",
+                                         "/icc_totals/max_sphere_fifo_occupancy",
+                                         "/icc_totals/max_planeid_fifo_occupancy"};
+    std::string hashes;
+    double active = 0;  // ICC pass cycles, for the RTI utilisation
+    bool match = true;
+    for (std::size_t i = 0; i < per_frame.size(); ++i) {
+        const nlohmann::json& f = per_frame[i];
+        hashes += f.value("workload_hash", "") + ";";
+        match = match && f.at("functional_match").get<bool>();
+        if (f.contains("iccs_detail"))
+            for (const auto& k : f["iccs_detail"]) active += k.value("active_cycles", 0.0);
+        if (f.contains("estimate") && !t.contains("estimate")) t["estimate"] = f["estimate"];
+        if (i == 0) continue;
+        for (const char* p : sums) {
+            const ptr q(p);
+            if (!t.contains(q) || !f.contains(q)) continue;
+            if (t[q].is_number_float() || f[q].is_number_float()) t[q] = t[q].get<double>() + f[q].get<double>();
+            else t[q] = t[q].get<std::uint64_t>() + f[q].get<std::uint64_t>();
+        }
+        for (const char* p : maxima) {
+            const ptr q(p);
+            if (t.contains(q) && f.contains(q)) t[q] = std::max(t[q].get<std::uint64_t>(), f[q].get<std::uint64_t>());
+        }
+    }
+    t["functional_match"] = match;
+    t["workload_hash"] = hex64(fnv1a64(hashes));
+    const double seconds = t["time_ms"].get<double>() / 1e3;
+    for (const char* link : {"sphere", "triangle"})
+        if (t.contains(ptr(std::string("/links/") + link + "/bytes")))
+            t["links"][link]["average_bandwidth_gbps"] =
+                seconds > 0 ? t["links"][link]["bytes"].get<double>() / seconds / 1e9 : 0.0;
+    if (active > 0) t["icc_totals"]["rti_utilisation"] = t["icc_totals"]["rti_busy_cycles"].get<double>() / active;
+    if (t.contains(ptr("/area/total"))) t["area_time"] = t["area"]["total"].get<double>() * t["total_cycles"].get<double>();
+    return t;
+}
+
+std::string animation_row_csv(const nlohmann::json& totals, std::uint64_t frames, int worst_frame,
+                              std::uint64_t worst_cycles, double worst_ms) {
+    std::string header = sim_csv_header(), row = sim_csv_row(totals);
+    header.pop_back();
+    row.pop_back();
+    char buf[128];
+    std::snprintf(buf, sizeof buf, ",%llu,%d,%llu,%.10g\n", (unsigned long long)frames, worst_frame,
+                  (unsigned long long)worst_cycles, worst_ms > 0 ? 1e3 / worst_ms : 0.0);
+    return header + ",frames,worst_frame,worst_frame_cycles,worst_fps_at_clock\n" + row + buf;
+}
+
 std::string frames_csv(const std::vector<nlohmann::json>& per_frame) {
     std::string out = "frame,fps_at_clock," + sim_csv_header();
     for (const auto& f : per_frame) {
@@ -303,7 +367,14 @@ int simulate_frames(const SimulateArgs& a, const SceneOptions& so_in) {
     for (int f = range.first; f <= range.last; ++f) per_frame.push_back(nlohmann::json::parse(read_file(result_of(f))));
     const nlohmann::json j = frames_json(per_frame);
     if (!a.json.empty()) write_file_atomically(a.json, j.dump(2) + "\n");
-    if (!a.csv.empty()) write_file_atomically(a.csv, frames_csv(per_frame));
+    if (!a.csv.empty()) {
+        const nlohmann::json& t = j["totals"];
+        write_file_atomically(a.csv, a.animation_row
+                                         ? animation_row_csv(animation_totals_json(per_frame), per_frame.size(),
+                                                             t["worst_frame"].get<int>(), t["worst_frame_cycles"].get<std::uint64_t>(),
+                                                             t["worst_frame_time_ms"].get<double>())
+                                         : frames_csv(per_frame));
+    }
     if (!so.quiet) std::cout << frames_summary(j);
     return 0;
 }

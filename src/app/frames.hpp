@@ -32,6 +32,16 @@ std::string frame_file(const std::string& pattern, int frame);
 // the run's common fields once, a `frames` array (each frame's figures, its
 // per-ICC detail and resolved config left out) and `totals`.
 nlohmann::json frames_json(const std::vector<nlohmann::json>& per_frame);
+// The frames of one run as one simulate result (what a sweep's row of an
+// animated scene holds): every count, cycle and byte summed over the frames,
+// maxima the largest, bandwidths and utilisation over the summed time, the
+// workload hash over the frames' hashes; the rest is the first frame's.
+nlohmann::json animation_totals_json(const std::vector<nlohmann::json>& per_frame);
+// simulate --animation-row: the CSV header and one row, simulate's CSV columns
+// of `totals` (a whole run's JSON, or animation_totals_json()) followed by
+// frames, worst_frame, worst_frame_cycles and worst_fps_at_clock.
+std::string animation_row_csv(const nlohmann::json& totals, std::uint64_t frames, int worst_frame,
+                              std::uint64_t worst_cycles, double worst_ms);
 // One CSV row per frame: frame, fps_at_clock, then simulate's CSV columns.
 std::string frames_csv(const std::vector<nlohmann::json>& per_frame);
 // What simulate --frames prints: a line per frame and one for the totals.
