@@ -44,7 +44,8 @@ double since(std::chrono::steady_clock::time_point t0) {
 // One frame: the image files asked for, the JSON report (as an object) and,
 // unless quiet, the summary.
 nlohmann::json render_one(const Scene& scene, const SceneOptions& so, double load_s, const std::string& out_png,
-                          const std::string& heatmap, const std::string& hits, PhaseProgress* progress) {
+                          const std::string& heatmap, const std::string& hits, PhaseProgress* progress,
+                          SphereCache* spheres = nullptr) {
     const NumFormat fmt = so.parsed_format();
     RenderReport rep;
     rep.load_s = load_s;
@@ -53,6 +54,7 @@ nlohmann::json render_one(const Scene& scene, const SceneOptions& so, double loa
     fo.threads = so.threads;
     fo.cull = !so.no_cull;
     fo.per_ray = !heatmap.empty();
+    fo.sphere_cache = spheres;
     check_front_end(FrontEndUse::render, scene, fo);
     if (progress) fo.progress = std::ref(*progress);
     Frame frame = render_frame(scene, fo);
@@ -102,13 +104,14 @@ int cmd_render(const SceneOptions& so_in, std::string out_png, bool out_given, c
                           {"animation", {{"frames", frame_count(scene)}, {"fps", scene.animation ? scene.animation->fps : 0.0}}},
                           {"frames", nlohmann::json::array()}};
     const std::size_t n = std::size_t(range.count());
+    SphereCache spheres;  // static geometry: the spheres are built once (bit for bit the same)
     for (int f = range.first; f <= range.last; ++f) {
         progress.draw(std::size_t(f - range.first), n, "frames", "", std::size_t(f - range.first), n);
         const Scene at = scene_at_frame(scene, f);
         if (!so.quiet) std::cout << "frame " << f << ": ";
         nlohmann::json j = render_one(at, so, f == range.first ? load_s : 0.0, frame_file(out_png, f),
                                       heatmap.empty() ? "" : frame_file(heatmap, f), hits.empty() ? "" : frame_file(hits, f),
-                                      nullptr);
+                                      nullptr, &spheres);
         j["frame"] = f;
         all["frames"].push_back(std::move(j));
     }

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <mutex>
 
@@ -101,7 +102,29 @@ Frame render_frame(const Scene& scene, const FrameOptions& opt) {
 
     auto t0 = clock::now();
     f.sphere_margin = conservative_margin(opt.format.unit_roundoff(), scene_extent(scene));
-    f.spheres = build_spheres(scene.mesh, scene.tris_per_sphere, scene.sphere_method, f.sphere_margin, threads);
+    SphereCache* const cache = opt.sphere_cache;
+    const Mesh& m = scene.mesh;
+    auto same_bytes = [](const auto& a, const auto& b) {
+        return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0);
+    };
+    if (cache && cache->valid && cache->k == scene.tris_per_sphere && cache->method == scene.sphere_method &&
+        std::memcmp(&cache->margin, &f.sphere_margin, sizeof(double)) == 0 && same_bytes(cache->vertices, m.vertices) &&
+        same_bytes(cache->triangles, m.triangles)) {
+        f.spheres = cache->spheres;
+        ++cache->reused;
+    } else {
+        f.spheres = build_spheres(m, scene.tris_per_sphere, scene.sphere_method, f.sphere_margin, threads);
+        if (cache) {
+            cache->vertices = m.vertices;
+            cache->triangles = m.triangles;
+            cache->k = scene.tris_per_sphere;
+            cache->method = scene.sphere_method;
+            cache->margin = f.sphere_margin;
+            cache->spheres = f.spheres;
+            cache->valid = true;
+            ++cache->built;
+        }
+    }
     Tracer tracer(f.spheres, opt.format, opt.cull);
     f.times.spheres_s = seconds_since(t0);
 

@@ -2,10 +2,12 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
 #include "raplas/frontend/frame.hpp"
+#include "raplas/scene/animation.hpp"
 #include "raplas/scene/mesh.hpp"
 #include "raplas/scene/scene.hpp"
 #include "raplas/util/params.hpp"
@@ -53,3 +55,49 @@ TEST(FrameSkips, HitPointsFacingAwayFromTheLightGetNoShadowGroupAndTheSameImage)
 }
 
 }  // namespace
+
+namespace {
+
+template <class V>
+bool same_bytes(const V& a, const V& b) {
+    return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0);
+}
+
+bool same_spheres(const SphereSet& a, const SphereSet& b) {
+    return same_bytes(a.spheres, b.spheres) && same_bytes(a.first_tri, b.first_tri) &&
+           same_bytes(a.tri_count, b.tri_count) && same_bytes(a.triangles, b.triangles) &&
+           same_bytes(a.tri_mesh_index, b.tri_mesh_index) && same_bytes(a.tri_sphere, b.tri_sphere);
+}
+
+}  // namespace
+
+TEST(SphereCache, StaticGeometryBuildsItsSpheresOnceAndMovedGeometryAgainBitForBit) {
+    // An orbit moves the camera only; the built-in animation also turns the box.
+    for (const bool moving : {false, true}) {
+        ParamSet p = scene_params();
+        p.set("image.width=24");
+        p.set("image.height=24");
+        if (moving) {
+            p.set("animation.builtin=default");
+        } else {  // the eye stays within the geometry's extent, so the margin does too
+            p.set("animation.frames=8");
+            p.set("animation.orbit.radius=1.5");
+            p.set("animation.orbit.eye_height=1");
+        }
+        const Scene base = scene_from_params(p, "");
+        SphereCache cache;
+        FrameOptions with;
+        with.threads = 2;
+        with.sphere_cache = &cache;
+        FrameOptions without;
+        without.threads = 1;
+        for (int f = 0; f < 3; ++f) {
+            const Scene s = scene_at_frame(base, f);
+            const Frame a = render_frame(s, with), b = render_frame(s, without);
+            EXPECT_TRUE(same_spheres(a.spheres, b.spheres)) << "frame " << f << (moving ? ", moving" : ", static");
+            EXPECT_TRUE(same_bytes(a.rgb, b.rgb)) << "frame " << f;
+        }
+        EXPECT_EQ(cache.built, moving ? 3u : 1u);
+        EXPECT_EQ(cache.reused, moving ? 0u : 2u);
+    }
+}

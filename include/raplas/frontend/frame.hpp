@@ -3,7 +3,9 @@
 // with soft shadows (visible fraction of the light's samples).
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <string>
 #include <functional>
 #include <vector>
 
@@ -19,6 +21,24 @@ class GroupStream;
 // pair-less spheres per group.
 struct ShadowSample {
     double sphere_hits = 0, pairless_runs = 0, pairless_spheres = 0;
+};
+
+// The bounding spheres of the last frame drawn with this cache and what they
+// were built from. build_spheres() is a function of the mesh's vertex and
+// index bytes, K, the method and the margin alone (not of the thread count),
+// so a frame whose inputs are those bytes again takes a copy of the spheres
+// instead of building them: the same Sphere and Triangle Memories, bit for
+// bit. A sequence of frames of static geometry (an orbiting camera) builds
+// its spheres once; a frame whose geometry or margin changed builds them.
+struct SphereCache {
+    std::vector<Vec3f> vertices;
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+    int k = 0;
+    std::string method;
+    double margin = 0;
+    SphereSet spheres;
+    bool valid = false;
+    std::size_t reused = 0, built = 0;  // frames that took the copy, frames that built
 };
 
 struct FrameOptions {
@@ -49,6 +69,9 @@ struct FrameOptions {
     // groups are made, then every group in issue order, each traced only
     // once the stream has room for it (raplas/frontend/group_source.hpp).
     GroupStream* stream = nullptr;
+    // Frames of one sequence: the spheres of the previous frame, taken when
+    // they are provably this frame's too (SphereCache).
+    SphereCache* sphere_cache = nullptr;
 };
 
 struct PhaseTimes {
