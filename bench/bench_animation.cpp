@@ -37,21 +37,20 @@
 #include "raplas/scene/animation.hpp"
 #include "raplas/scene/scene.hpp"
 #include "raplas/util/parallel.hpp"
+#include "bench_util.hpp"
+#include "embree_rays.hpp"
 
-#ifndef RAPLAS_SHARED_SCENES
-#define RAPLAS_SHARED_SCENES "../shared/scenes"
-#endif
-#ifndef RAPLAS_SOURCE_DIR
-#define RAPLAS_SOURCE_DIR "."
-#endif
 
 namespace raplas {
 namespace {
 
 namespace fs = std::filesystem;
-using clock_type = std::chrono::steady_clock;
+using bench::clock_type;
+using bench::cpu_model;
+using bench::fmt_count;
+using bench::load_average;
+using bench::since;
 
-double since(clock_type::time_point t0) { return std::chrono::duration<double>(clock_type::now() - t0).count(); }
 
 const std::vector<std::string> kScenes = {"conference_orbit", "bunny_turn", "wave"};
 
@@ -81,90 +80,9 @@ double best_of(int repeat, F&& body) {
 }
 
 // ---- the animation's rigid motions ----------------------------------------------
-// The motion of an object track at a frame, in the same arithmetic as
-// scene_at_frame() (src/scene/animation.cpp), which keeps it to itself; the
-// benchmark checks, frame by frame, that it moves every corner to the very
-// bits scene_at_frame() gives.
-
-struct Quat {
-    double w = 1, x = 0, y = 0, z = 0;
-};
-
-double lerp(double x, double y, double t) { return x + (y - x) * t; }
-Vec3d lerp(const Vec3d& x, const Vec3d& y, double t) { return {lerp(x.x, y.x, t), lerp(x.y, y.y, t), lerp(x.z, y.z, t)}; }
-
-Vec3d unit(const Vec3d& v) {
-    const double m = max_abs(v);
-    return m > 0 ? normalize(v / m) : v;
-}
-
-Quat axis_angle(const Vec3d& axis, double deg) {
-    const Vec3d u = unit(axis);
-    const double half = deg * M_PI / 360.0, s = std::sin(half);
-    return {std::cos(half), u.x * s, u.y * s, u.z * s};
-}
-
-Quat slerp(const Quat& p, Quat q, double t) {
-    double d = p.w * q.w + p.x * q.x + p.y * q.y + p.z * q.z;
-    if (d < 0) {
-        q = {-q.w, -q.x, -q.y, -q.z};
-        d = -d;
-    }
-    double s0 = 1 - t, s1 = t;
-    if (d < 0.9995) {
-        const double theta = std::acos(d), st = std::sin(theta);
-        s0 = std::sin((1 - t) * theta) / st;
-        s1 = std::sin(t * theta) / st;
-    }
-    Quat r{s0 * p.w + s1 * q.w, s0 * p.x + s1 * q.x, s0 * p.y + s1 * q.y, s0 * p.z + s1 * q.z};
-    const double n = std::sqrt(r.w * r.w + r.x * r.x + r.y * r.y + r.z * r.z);
-    return {r.w / n, r.x / n, r.y / n, r.z / n};
-}
-
-void rotate_by(RigidMotion& m, const Quat& q) {
-    m.rotates = true;
-    const double w = q.w, x = q.x, y = q.y, z = q.z;
-    m.r[0][0] = 1 - 2 * (y * y + z * z), m.r[0][1] = 2 * (x * y - w * z), m.r[0][2] = 2 * (x * z + w * y);
-    m.r[1][0] = 2 * (x * y + w * z), m.r[1][1] = 1 - 2 * (x * x + z * z), m.r[1][2] = 2 * (y * z - w * x);
-    m.r[2][0] = 2 * (x * z - w * y), m.r[2][1] = 2 * (y * z + w * x), m.r[2][2] = 1 - 2 * (x * x + y * y);
-}
-
-RigidMotion motion_at(const ObjectTrack& track, int frame) {
-    const auto& keys = track.keys;
-    std::size_t a = 0, b = 0;
-    double t = 0;
-    if (frame <= keys.front().frame) {
-        a = b = 0;
-    } else if (frame >= keys.back().frame) {
-        a = b = keys.size() - 1;
-    } else {
-        const auto after = std::upper_bound(keys.begin(), keys.end(), frame,
-                                            [](int f, const ObjectKey& k) { return f < k.frame; });
-        b = static_cast<std::size_t>(after - keys.begin());
-        a = b - 1;
-        if (keys[a].frame == frame) b = a;
-        else t = double(frame - keys[a].frame) / double(keys[b].frame - keys[a].frame);
-    }
-    const ObjectKey& ka = keys[a];
-    const ObjectKey& kb = keys[b];
-    RigidMotion m;
-    m.pivot = track.pivot;
-    if (a == b) {
-        m.translate = ka.translate;
-        m.scale = ka.scale;
-        if (ka.angle_deg != 0) rotate_by(m, axis_angle(ka.axis, ka.angle_deg));
-        return m;
-    }
-    m.translate = lerp(ka.translate, kb.translate, t);
-    m.scale = lerp(ka.scale, kb.scale, t);
-    if (ka.axis == kb.axis) {
-        const double angle = lerp(ka.angle_deg, kb.angle_deg, t);
-        if (angle != 0) rotate_by(m, axis_angle(ka.axis, angle));
-    } else if (ka.angle_deg != 0 || kb.angle_deg != 0) {
-        rotate_by(m, slerp(axis_angle(ka.axis, ka.angle_deg), axis_angle(kb.axis, kb.angle_deg), t));
-    }
-    return m;
-}
+// motion_at() (raplas/scene/animation.hpp) is what scene_at_frame() applies;
+// the benchmark checks, frame by frame, that it moves every corner to the
+// very bits scene_at_frame() gives.
 
 // Each mesh triangle's motion at a frame, for refit_spheres(): motions[0] is
 // the identity (the floor, and triangles no track moves); a triangle moved by
@@ -417,24 +335,11 @@ public:
 
     // Ray parameter of the nearest hit in (0, inf), or -1 for a miss.
     float intersect(const Ray& r) const {
-        RTCIntersectContext ctx;
-        rtcInitIntersectContext(&ctx);
-        RTCRayHit rh;
-        set_ray(rh.ray, r, std::numeric_limits<float>::infinity());
-        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-        rtcIntersect1(scene_, &ctx, &rh);
+        const RTCRayHit rh = embree_nearest(scene_, r);
         return rh.hit.geomID != RTC_INVALID_GEOMETRY_ID ? rh.ray.tfar : -1.0f;
     }
     // Anything in (0, r.tmax]?
-    bool occluded(const Ray& r) const {
-        RTCIntersectContext ctx;
-        rtcInitIntersectContext(&ctx);
-        RTCRay ray;
-        set_ray(ray, r, r.tmax);
-        rtcOccluded1(scene_, &ctx, &ray);
-        return ray.tfar < 0;
-    }
+    bool occluded(const Ray& r) const { return embree_occluded(scene_, r); }
 
 private:
     void copy_vertices(const Mesh& m) {
@@ -444,20 +349,6 @@ private:
             vertices_[4 * i + 2] = m.vertices[i].z;
             vertices_[4 * i + 3] = 0.0f;
         }
-    }
-    static void set_ray(RTCRay& ray, const Ray& r, float tfar) {
-        ray.org_x = r.o.x;
-        ray.org_y = r.o.y;
-        ray.org_z = r.o.z;
-        ray.tnear = 0.0f;
-        ray.dir_x = r.d.x;
-        ray.dir_y = r.d.y;
-        ray.dir_z = r.d.z;
-        ray.time = 0.0f;
-        ray.tfar = tfar;
-        ray.mask = 0xffffffffu;
-        ray.id = 0;
-        ray.flags = 0;
     }
 
     const EmbreeDevice& dev_;
@@ -672,37 +563,20 @@ SceneResult run_scene(const std::string& name, const Options& o) {
 
             // The same primary and shadow rays through Embree.
             t0 = clock_type::now();
-            std::vector<std::size_t> lit;
-            for (std::size_t px = 0; px < f.pixel_hit.size(); ++px)
-                if (f.pixel_hit[px].tri >= 0) lit.push_back(px);
-            const std::size_t per_group = std::size_t(scene.shadow_group_size) * std::size_t(scene.shadow_group_size);
-            std::vector<Ray> shadow_rays(lit.size() * per_group);
-            parallel_for(lit.size(), T, [&](std::size_t j) {
-                const std::size_t px = lit[j];
-                const int x = int(px % std::size_t(scene.width)), y = int(px / std::size_t(scene.width));
-                const RayGroup g = shadow_group(scene, shadow_origin(scene, f.spheres, f.pixel_ray[px], f.pixel_hit[px]), x, y);
-                for (std::uint32_t v = 0; v < g.n; ++v)
-                    for (std::uint32_t h = 0; h < g.n; ++h) shadow_rays[j * per_group + v * g.n + h] = group_ray(g, h, v);
-            });
+            const bench::ShadowRays sr = bench::frame_shadow_rays(scene, f, T);
+            const std::vector<Ray>& shadow_rays = sr.rays;
             F.shadow_setup_s = since(t0);
             F.shadow_rays = shadow_rays.size();
-            for (std::size_t px : lit)
-                F.fe_occluded += std::uint64_t(std::llround((1.0 - double(f.visibility[px])) * double(per_group)));
+            F.fe_occluded = sr.occluded;
 
             std::fprintf(stderr, "%s: frame %d: Embree rays...\n", name.c_str(), F.frame);
             const EmbreeRays er = trace_embree(*fresh, f.pixel_ray, shadow_rays, T, o.repeat);
             F.em_primary_s = er.primary_s;
             F.em_shadow_s = er.shadow_s;
             F.em_occluded = er.occluded;
-            for (std::size_t px = 0; px < er.primary_t.size(); ++px) {
-                const bool fh = f.pixel_hit[px].tri >= 0, eh = er.primary_t[px] >= 0;
-                if (fh != eh) {
-                    ++F.primary_hit_mismatch;
-                } else if (fh) {
-                    const double a = f.pixel_hit[px].t, b = er.primary_t[px];
-                    if (std::fabs(a - b) > 1e-4 * std::max(std::fabs(a), std::fabs(b))) ++F.primary_t_mismatch;
-                }
-            }
+            const bench::PrimaryMismatch pm = bench::compare_primary(f, er.primary_t);
+            F.primary_hit_mismatch = pm.hit;
+            F.primary_t_mismatch = pm.distance;
             if (F.refit_ok) {
                 const EmbreeRays rr = trace_embree(*refit_mesh, f.pixel_ray, shadow_rays, T, o.repeat);
                 F.em_refit_primary_s = rr.primary_s;
@@ -728,11 +602,6 @@ std::string fmt_ms(double s) {
     return buf;
 }
 
-std::string fmt_count(std::uint64_t n) {
-    std::string s = std::to_string(n);
-    for (int i = int(s.size()) - 3; i > 0; i -= 3) s.insert(std::size_t(i), ",");
-    return s;
-}
 
 std::string fmt_g(double x) {
     char buf[32];
@@ -746,27 +615,7 @@ std::string fmt_ratio(double x) {
     return buf;
 }
 
-std::string cpu_model() {
-    std::ifstream in("/proc/cpuinfo");
-    std::string line;
-    while (std::getline(in, line)) {
-        if (line.rfind("model name", 0) == 0) {
-            auto colon = line.find(':');
-            if (colon != std::string::npos) return line.substr(line.find_first_not_of(" \t", colon + 1));
-        }
-    }
-    return "unknown";
-}
 
-std::string load_average() {
-    std::ifstream in("/proc/loadavg");
-    double one = -1;
-    in >> one;
-    if (!in) return "unknown";
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.2f", one);
-    return buf;
-}
 
 const char* const kPathTitles[] = {"transform (centre moved, radius scaled + rounding allowance)",
                                    "transform + radius (centre moved, radius from the moved corners)",
@@ -917,10 +766,7 @@ nlohmann::json to_json(const std::vector<SceneResult>& rs, const std::string& co
                        const std::string& load_after) {
     nlohmann::json j;
     j["command"] = command;
-    j["machine"] = {{"hardware_threads", std::thread::hardware_concurrency()},
-                    {"cpu", cpu_model()},
-                    {"load_average_before", load_before},
-                    {"load_average_after", load_after}};
+    j["machine"] = bench::machine_json(load_before, load_after);
     j["embree_version"] = RTC_VERSION_STRING;
     for (const SceneResult& r : rs) {
         nlohmann::json s;

@@ -25,23 +25,20 @@
 #include "raplas/frontend/frame.hpp"
 #include "raplas/scene/scene.hpp"
 #include "raplas/util/parallel.hpp"
+#include "bench_util.hpp"
+#include "embree_rays.hpp"
 
-#ifndef RAPLAS_SHARED_SCENES
-#define RAPLAS_SHARED_SCENES "../shared/scenes"
-#endif
-#ifndef RAPLAS_SOURCE_DIR
-#define RAPLAS_SOURCE_DIR "."
-#endif
 
 namespace raplas {
 namespace {
 
 namespace fs = std::filesystem;
-using clock_type = std::chrono::steady_clock;
+using bench::clock_type;
+using bench::cpu_model;
+using bench::fmt_count;
+using bench::load_average;
+using bench::since;
 
-double since(clock_type::time_point t0) {
-    return std::chrono::duration<double>(clock_type::now() - t0).count();
-}
 
 struct Options {
     std::vector<std::string> scenes{"bunny", "conference"};
@@ -113,41 +110,13 @@ public:
 
     // Ray parameter of the nearest hit in (0, inf), or -1 for a miss.
     float intersect(const Ray& r) const {
-        RTCIntersectContext ctx;
-        rtcInitIntersectContext(&ctx);
-        RTCRayHit rh;
-        set_ray(rh.ray, r, std::numeric_limits<float>::infinity());
-        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-        rtcIntersect1(scene_, &ctx, &rh);
+        const RTCRayHit rh = embree_nearest(scene_, r);
         return rh.hit.geomID != RTC_INVALID_GEOMETRY_ID ? rh.ray.tfar : -1.0f;
     }
     // Anything in (0, r.tmax]?
-    bool occluded(const Ray& r) const {
-        RTCIntersectContext ctx;
-        rtcInitIntersectContext(&ctx);
-        RTCRay ray;
-        set_ray(ray, r, r.tmax);
-        rtcOccluded1(scene_, &ctx, &ray);
-        return ray.tfar < 0;
-    }
+    bool occluded(const Ray& r) const { return embree_occluded(scene_, r); }
 
 private:
-    static void set_ray(RTCRay& ray, const Ray& r, float tfar) {
-        ray.org_x = r.o.x;
-        ray.org_y = r.o.y;
-        ray.org_z = r.o.z;
-        ray.tnear = 0.0f;
-        ray.dir_x = r.d.x;
-        ray.dir_y = r.d.y;
-        ray.dir_z = r.d.z;
-        ray.time = 0.0f;
-        ray.tfar = tfar;
-        ray.mask = 0xffffffffu;
-        ray.id = 0;
-        ray.flags = 0;
-    }
-
     RTCDevice device_ = nullptr;
     RTCScene scene_ = nullptr;
     double build_s_ = 0;
@@ -266,22 +235,11 @@ Result run_scene(const KnownScene& k, const Options& o, unsigned threads) {
 
     // The shadow rays the front end traced: one group per pixel whose primary ray hits.
     t0 = clock_type::now();
-    std::vector<std::size_t> lit;
-    for (std::size_t px = 0; px < f.pixel_hit.size(); ++px)
-        if (f.pixel_hit[px].tri >= 0) lit.push_back(px);
-    const std::size_t per_group = std::size_t(scene.shadow_group_size) * std::size_t(scene.shadow_group_size);
-    std::vector<Ray> shadow_rays(lit.size() * per_group);
-    parallel_for(lit.size(), threads, [&](std::size_t i) {
-        const std::size_t px = lit[i];
-        const int x = int(px % std::size_t(scene.width)), y = int(px / std::size_t(scene.width));
-        const RayGroup g = shadow_group(scene, shadow_origin(scene, f.spheres, f.pixel_ray[px], f.pixel_hit[px]), x, y);
-        for (std::uint32_t v = 0; v < g.n; ++v)
-            for (std::uint32_t h = 0; h < g.n; ++h) shadow_rays[i * per_group + v * g.n + h] = group_ray(g, h, v);
-    });
+    const bench::ShadowRays sr = bench::frame_shadow_rays(scene, f, threads);
+    const std::vector<Ray>& shadow_rays = sr.rays;
     r.shadow_setup_s = since(t0);
     r.shadow_rays = shadow_rays.size();
-    for (std::size_t px : lit)
-        r.fe_occluded += std::uint64_t(std::llround((1.0 - double(f.visibility[px])) * double(per_group)));
+    r.fe_occluded = sr.occluded;
 
     std::fprintf(stderr, "%s: Embree...\n", k.name.c_str());
     r.em_build_1 = r.em_build_n = std::numeric_limits<double>::infinity();
@@ -296,15 +254,9 @@ Result run_scene(const KnownScene& k, const Options& o, unsigned threads) {
     std::vector<float> prim_t(f.pixel_ray.size());
     auto prim = [&](std::size_t i) { prim_t[i] = em.intersect(f.pixel_ray[i]); };
     std::tie(r.em_primary_1, r.em_primary_n) = best_times(prim_t.size(), threads, o.repeat, prim);
-    for (std::size_t px = 0; px < prim_t.size(); ++px) {
-        const bool fh = f.pixel_hit[px].tri >= 0, eh = prim_t[px] >= 0;
-        if (fh != eh) {
-            ++r.primary_hit_mismatch;
-        } else if (fh) {
-            const double a = f.pixel_hit[px].t, b = prim_t[px];
-            if (std::fabs(a - b) > 1e-4 * std::max(std::fabs(a), std::fabs(b))) ++r.primary_t_mismatch;
-        }
-    }
+    const bench::PrimaryMismatch pm = bench::compare_primary(f, prim_t);
+    r.primary_hit_mismatch = pm.hit;
+    r.primary_t_mismatch = pm.distance;
 
     std::vector<unsigned char> occ(shadow_rays.size());
     auto shad = [&](std::size_t i) { occ[i] = em.occluded(shadow_rays[i]) ? 1 : 0; };
@@ -325,11 +277,6 @@ std::string fmt_time(double s) {
     return buf;
 }
 
-std::string fmt_count(std::uint64_t n) {
-    std::string s = std::to_string(n);
-    for (int i = int(s.size()) - 3; i > 0; i -= 3) s.insert(std::size_t(i), ",");
-    return s;
-}
 
 std::string fmt_rate(double rays, double s) {
     if (!(s > 0)) return "-";
@@ -338,27 +285,7 @@ std::string fmt_rate(double rays, double s) {
     return buf;
 }
 
-std::string cpu_model() {
-    std::ifstream in("/proc/cpuinfo");
-    std::string line;
-    while (std::getline(in, line)) {
-        if (line.rfind("model name", 0) == 0) {
-            auto colon = line.find(':');
-            if (colon != std::string::npos) return line.substr(line.find_first_not_of(" \t", colon + 1));
-        }
-    }
-    return "unknown";
-}
 
-std::string load_average() {
-    std::ifstream in("/proc/loadavg");
-    double one = -1;
-    in >> one;
-    if (!in) return "unknown";
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.2f", one);
-    return buf;
-}
 
 void print_markdown(const std::vector<Result>& rs, const std::string& command, const std::string& load_before,
                     const std::string& load_after) {
@@ -412,10 +339,7 @@ nlohmann::json to_json(const std::vector<Result>& rs, const std::string& command
                        const std::string& load_after) {
     nlohmann::json j;
     j["command"] = command;
-    j["machine"] = {{"hardware_threads", std::thread::hardware_concurrency()},
-                    {"cpu", cpu_model()},
-                    {"load_average_before", load_before},
-                    {"load_average_after", load_after}};
+    j["machine"] = bench::machine_json(load_before, load_after);
     auto phases = [](const PhaseTimes& t) {
         return nlohmann::json{{"spheres_s", t.spheres_s}, {"primary_s", t.primary_s}, {"shadow_s", t.shadow_s},
                               {"shade_s", t.shade_s}};

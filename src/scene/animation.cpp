@@ -138,52 +138,12 @@ Quat slerp(const Quat& p, Quat q, double t) {
     return {r.w / n, r.x / n, r.y / n, r.z / n};
 }
 
-// One track's motion at one frame.
-struct Rigid {
-    Vec3d pivot, translate;
-    double scale = 1;
-    bool turns = false;  // a rotation other than none
-    double r[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-
-    void rotate_by(const Quat& q) {
-        turns = true;
-        const double w = q.w, x = q.x, y = q.y, z = q.z;
-        r[0][0] = 1 - 2 * (y * y + z * z), r[0][1] = 2 * (x * y - w * z), r[0][2] = 2 * (x * z + w * y);
-        r[1][0] = 2 * (x * y + w * z), r[1][1] = 1 - 2 * (x * x + z * z), r[1][2] = 2 * (y * z - w * x);
-        r[2][0] = 2 * (x * z - w * y), r[2][1] = 2 * (y * z + w * x), r[2][2] = 1 - 2 * (x * x + y * y);
-    }
-    Vec3d apply(const Vec3d& p) const {
-        if (!turns && scale == 1) return p + translate;
-        Vec3d d = (p - pivot) * scale;
-        if (turns)
-            d = {r[0][0] * d.x + r[0][1] * d.y + r[0][2] * d.z, r[1][0] * d.x + r[1][1] * d.y + r[1][2] * d.z,
-                 r[2][0] * d.x + r[2][1] * d.y + r[2][2] * d.z};
-        return pivot + d + translate;
-    }
-};
-
-Rigid rigid_at(const ObjectTrack& track, int frame) {
-    const Span s = span_at(track.keys, frame);
-    const ObjectKey& a = track.keys[s.a];
-    const ObjectKey& b = track.keys[s.b];
-    Rigid r;
-    r.pivot = track.pivot;
-    if (s.a == s.b) {
-        r.translate = a.translate;
-        r.scale = a.scale;
-        if (a.angle_deg != 0) r.rotate_by(axis_angle(a.axis, a.angle_deg));
-        return r;
-    }
-    r.translate = lerp(a.translate, b.translate, s.t);
-    r.scale = lerp(a.scale, b.scale, s.t);
-    if (a.axis == b.axis) {
-        // One axis: the angle itself is interpolated, so a pair can turn by more than half a turn.
-        const double angle = lerp(a.angle_deg, b.angle_deg, s.t);
-        if (angle != 0) r.rotate_by(axis_angle(a.axis, angle));
-    } else if (a.angle_deg != 0 || b.angle_deg != 0) {
-        r.rotate_by(slerp(axis_angle(a.axis, a.angle_deg), axis_angle(b.axis, b.angle_deg), s.t));
-    }
-    return r;
+void rotate_by(RigidMotion& m, const Quat& q) {
+    m.rotates = true;
+    const double w = q.w, x = q.x, y = q.y, z = q.z;
+    m.r[0][0] = 1 - 2 * (y * y + z * z), m.r[0][1] = 2 * (x * y - w * z), m.r[0][2] = 2 * (x * z + w * y);
+    m.r[1][0] = 2 * (x * y + w * z), m.r[1][1] = 1 - 2 * (x * x + z * z), m.r[1][2] = 2 * (y * z - w * x);
+    m.r[2][0] = 2 * (x * z - w * y), m.r[2][1] = 2 * (y * z + w * x), m.r[2][2] = 1 - 2 * (x * x + y * y);
 }
 
 // The triangles of the mesh as loaded: those before the added ones (the floor).
@@ -241,12 +201,12 @@ void move_objects(Mesh& m, const Animation& a, int frame) {
     const bool named = m.triangle_object.size() == m.triangles.size();
     std::vector<int> track_of(m.object_names.size(), -1);
     int whole = -1;
-    std::vector<Rigid> rigid;
+    std::vector<RigidMotion> rigid;
     for (std::size_t i = 0; i < a.objects.size(); ++i) {
         const ObjectTrack& tr = a.objects[i];
         if (tr.object < 0) whole = static_cast<int>(i);
         else if (static_cast<std::size_t>(tr.object) < track_of.size()) track_of[static_cast<std::size_t>(tr.object)] = static_cast<int>(i);
-        rigid.push_back(rigid_at(tr, frame));
+        rigid.push_back(motion_at(tr, frame));
     }
     // The motion of a triangle: kStill (added geometry), -1 (the whole mesh's only) or a track.
     constexpr int kStill = -2, kUnseen = INT_MIN;
@@ -563,6 +523,30 @@ void resolve_animation_params(ParamSet& p, const Animation& a) {
         }
         p.set("animation.object=[" + tracks + "]");
     }
+}
+
+RigidMotion motion_at(const ObjectTrack& track, int frame) {
+    const Span s = span_at(track.keys, frame);
+    const ObjectKey& a = track.keys[s.a];
+    const ObjectKey& b = track.keys[s.b];
+    RigidMotion r;
+    r.pivot = track.pivot;
+    if (s.a == s.b) {
+        r.translate = a.translate;
+        r.scale = a.scale;
+        if (a.angle_deg != 0) rotate_by(r, axis_angle(a.axis, a.angle_deg));
+        return r;
+    }
+    r.translate = lerp(a.translate, b.translate, s.t);
+    r.scale = lerp(a.scale, b.scale, s.t);
+    if (a.axis == b.axis) {
+        // One axis: the angle itself is interpolated, so a pair can turn by more than half a turn.
+        const double angle = lerp(a.angle_deg, b.angle_deg, s.t);
+        if (angle != 0) rotate_by(r, axis_angle(a.axis, angle));
+    } else if (a.angle_deg != 0 || b.angle_deg != 0) {
+        rotate_by(r, slerp(axis_angle(a.axis, a.angle_deg), axis_angle(b.axis, b.angle_deg), s.t));
+    }
+    return r;
 }
 
 int frame_count(const Scene& s) { return s.animation ? s.animation->frames : 1; }

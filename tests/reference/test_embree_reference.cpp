@@ -2,6 +2,8 @@
 // sample of its shadow rays are traced again by Embree over the same mesh, and
 // the answers (hit or miss, distance along the ray, occlusion) must agree.
 #include <embree3/rtcore.h>
+
+#include "embree_rays.hpp"
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -86,7 +88,7 @@ public:
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
         RTCRayHit rh;
-        set_ray(rh.ray, r, tfar);
+        set_embree_ray(rh.ray, r, tfar);
         rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
         rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
         rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
@@ -101,31 +103,9 @@ public:
     }
 
     // Any hit along o + t*d, t in (0, r.tmax].
-    bool occluded(const Ray& r) const {
-        RTCIntersectContext ctx;
-        rtcInitIntersectContext(&ctx);
-        RTCRay ray;
-        set_ray(ray, r, r.tmax);
-        rtcOccluded1(scene_, &ctx, &ray);
-        return ray.tfar < 0;  // set to -inf when occluded
-    }
+    bool occluded(const Ray& r) const { return embree_occluded(scene_, r); }
 
 private:
-    static void set_ray(RTCRay& ray, const Ray& r, float tfar) {
-        ray.org_x = r.o.x;
-        ray.org_y = r.o.y;
-        ray.org_z = r.o.z;
-        ray.tnear = 0.0f;
-        ray.dir_x = r.d.x;
-        ray.dir_y = r.d.y;
-        ray.dir_z = r.d.z;
-        ray.time = 0.0f;
-        ray.tfar = tfar;
-        ray.mask = 0xffffffffu;
-        ray.id = 0;
-        ray.flags = 0;
-    }
-
     RTCDevice device_ = nullptr;
     RTCScene scene_ = nullptr;
 };

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "raplas/core/intersect.hpp"
+#include "raplas/scene/animation.hpp"
 #include "raplas/scene/mesh.hpp"
 
 namespace raplas {
@@ -40,28 +41,6 @@ struct SphereQuality {
 SphereSet build_spheres(const Mesh& mesh, int tris_per_sphere, const std::string& method, double margin,
                         unsigned threads = 1);
 SphereQuality sphere_quality(const SphereSet& s);
-
-// A rigid motion with a uniform scale, in the form the animation applies to
-// an object (raplas/scene/animation.hpp, ObjectTrack): a point p goes to
-// pivot + translate + R (scale (p - pivot)), R the rotation matrix r.
-struct RigidMotion {
-    Vec3d pivot{0, 0, 0}, translate{0, 0, 0};
-    double scale = 1;
-    bool rotates = false;  // r is used (else R is the identity)
-    double r[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-
-    // In double, with the animation's order of operations.
-    Vec3d apply(const Vec3d& p) const {
-        if (!rotates && scale == 1) return p + translate;
-        Vec3d d = (p - pivot) * scale;
-        if (rotates)
-            d = {r[0][0] * d.x + r[0][1] * d.y + r[0][2] * d.z, r[1][0] * d.x + r[1][1] * d.y + r[1][2] * d.z,
-                 r[2][0] * d.x + r[2][1] * d.y + r[2][2] * d.z};
-        return pivot + d + translate;
-    }
-    // No motion at all: apply() returns p itself.
-    bool identity() const { return !rotates && scale == 1 && translate == Vec3d(0, 0, 0); }
-};
 
 // How refit_spheres() gets a sphere whose triangles all share one rigid motion.
 enum class SphereRefit {

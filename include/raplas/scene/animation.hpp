@@ -51,6 +51,34 @@ struct ObjectTrack {
     std::int32_t object = -1;     // index into the mesh's object_names; -1 for "*"
 };
 
+// A rigid motion with a uniform scale, in the form the animation applies to
+// an object (ObjectTrack): a point p goes to
+// pivot + translate + R (scale (p - pivot)), R the rotation matrix r.
+struct RigidMotion {
+    Vec3d pivot{0, 0, 0}, translate{0, 0, 0};
+    double scale = 1;
+    bool rotates = false;  // r is used (else R is the identity)
+    double r[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+
+    // In double, with the animation's order of operations.
+    Vec3d apply(const Vec3d& p) const {
+        if (!rotates && scale == 1) return p + translate;
+        Vec3d d = (p - pivot) * scale;
+        if (rotates)
+            d = {r[0][0] * d.x + r[0][1] * d.y + r[0][2] * d.z, r[1][0] * d.x + r[1][1] * d.y + r[1][2] * d.z,
+                 r[2][0] * d.x + r[2][1] * d.y + r[2][2] * d.z};
+        return pivot + d + translate;
+    }
+    // No motion at all: apply() returns p itself.
+    bool identity() const { return !rotates && scale == 1 && translate == Vec3d(0, 0, 0); }
+};
+
+// Track `track`'s motion at `frame`: what scene_at_frame() applies to the
+// track's vertices (in doubles, each corner then rounded to float). At a
+// keyframe its values as given; between two, translate and scale linear, the
+// angle linear about one axis, else the rotations spherically interpolated.
+RigidMotion motion_at(const ObjectTrack& track, int frame);
+
 struct LightKey {
     int frame = 0;
     Vec3d corner;
