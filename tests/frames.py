@@ -96,6 +96,12 @@ with tempfile.TemporaryDirectory() as d:
             imgs.append(img)
     check(len(set(imgs)) == 3, "the three frames' images differ")
     check([f["frame"] for f in load(os.path.join(d, "r.json"))["frames"]] == [0, 1, 2], "render JSON: a report per frame")
+    run(["render", "--frames", "0:2", "--out", "g_%d.png", "--gif", "anim.gif", "-q"] + scene, d)
+    with open(os.path.join(d, "anim.gif"), "rb") as fh:
+        gif = fh.read()
+    # one graphic control extension (the frame's delay) per frame, and the looping extension
+    check(gif[:6] == b"GIF89a" and gif.count(b"\x21\xf9\x04") == 3 and b"NETSCAPE2.0" in gif,
+          "render --frames 0:2 --gif: an animated GIF of 3 frames that loops")
 
     # merge refuses a missing frame and a frame of another run
     run(["simulate", "--frame", "1", "--json", "f1.json", "-q"] + scene + config, d)

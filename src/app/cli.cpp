@@ -17,6 +17,7 @@
 #include <cstdlib>
 #include <functional>
 #include <iostream>
+#include <memory>
 
 #include "raplas/app/image_io.hpp"
 #include "raplas/app/progress.hpp"
@@ -45,7 +46,7 @@ double since(std::chrono::steady_clock::time_point t0) {
 // unless quiet, the summary.
 nlohmann::json render_one(const Scene& scene, const SceneOptions& so, double load_s, const std::string& out_png,
                           const std::string& heatmap, const std::string& hits, PhaseProgress* progress,
-                          SphereCache* spheres = nullptr) {
+                          SphereCache* spheres = nullptr, AnimationWriter* gif = nullptr) {
     const NumFormat fmt = so.parsed_format();
     RenderReport rep;
     rep.load_s = load_s;
@@ -61,6 +62,7 @@ nlohmann::json render_one(const Scene& scene, const SceneOptions& so, double loa
     if (progress) progress->finish();
     auto t0 = std::chrono::steady_clock::now();
     if (!out_png.empty()) write_rgb_image(out_png, frame.width, frame.height, frame.rgb);
+    if (gif) gif->add(frame.rgb);
     if (!heatmap.empty()) write_heatmap(heatmap, frame.width, frame.height, frame.work_rt);
     if (!hits.empty()) write_file_atomically(hits, hits_csv(frame));
     rep.write_s = since(t0);
@@ -77,7 +79,7 @@ nlohmann::json render_one(const Scene& scene, const SceneOptions& so, double loa
 }
 
 int cmd_render(const SceneOptions& so_in, std::string out_png, bool out_given, const std::string& heatmap,
-               const std::string& hits, const std::string& json, const std::string& frames) {
+               const std::string& hits, const std::string& json, const std::string& frames, const std::string& gif) {
     SceneOptions so = so_in;
     so.animate = !frames.empty();
     if (so.animate && so.frame >= 0) throw UsageError("give either --frame F or --frames, not both");
@@ -85,7 +87,10 @@ int cmd_render(const SceneOptions& so_in, std::string out_png, bool out_given, c
     Scene scene;
     double load_s = 0;
     if (!so.load(scene, load_s)) return 0;
-    if (!out_png.empty() || !heatmap.empty()) load_image_module();
+    if (!gif.empty() && !so.animate) throw UsageError("--gif writes the frames of --frames as one animated GIF: give --frames");
+    if (!gif.empty() && (gif.size() < 4 || gif.substr(gif.size() - 4) != ".gif"))
+        throw UsageError("--gif " + gif + ": the name must end in .gif");
+    if (!out_png.empty() || !heatmap.empty() || !gif.empty()) load_image_module();
     if (!so.animate) {
         PhaseProgress progress(so.show_progress(), ::isatty(2));
         nlohmann::json j = render_one(scene, so, load_s, out_png, heatmap, hits, &progress);
@@ -105,18 +110,26 @@ int cmd_render(const SceneOptions& so_in, std::string out_png, bool out_given, c
                           {"frames", nlohmann::json::array()}};
     const std::size_t n = std::size_t(range.count());
     SphereCache spheres;  // static geometry: the spheres are built once (bit for bit the same)
+    std::unique_ptr<AnimationWriter> animation;
+    if (!gif.empty())
+        animation = std::make_unique<AnimationWriter>(gif, scene.width, scene.height,
+                                                      scene.animation ? scene.animation->fps : 24.0);
     for (int f = range.first; f <= range.last; ++f) {
         progress.draw(std::size_t(f - range.first), n, "frames", "", std::size_t(f - range.first), n);
         const Scene at = scene_at_frame(scene, f);
         if (!so.quiet) std::cout << "frame " << f << ": ";
         nlohmann::json j = render_one(at, so, f == range.first ? load_s : 0.0, frame_file(out_png, f),
                                       heatmap.empty() ? "" : frame_file(heatmap, f), hits.empty() ? "" : frame_file(hits, f),
-                                      nullptr, &spheres);
+                                      nullptr, &spheres, animation.get());
         j["frame"] = f;
         all["frames"].push_back(std::move(j));
     }
     progress.draw(n, n, "frames", "", n, n);
     progress.finish();
+    if (animation) {
+        animation->finish();
+        if (!so.quiet) std::cout << "wrote " << gif << " (" << n << " frames)\n";
+    }
     if (!json.empty()) write_file_atomically(json, all.dump(2) + "\n");
     return 0;
 }
@@ -345,6 +358,9 @@ int run_cli(int argc, char** argv) {
     render->add_option("--frames", render_frames,
                        "render frames of the scene's animation: N (frames 0 to N-1), A:B (both included) or all; "
                        "--out (default frame_%04d.png), --heatmap and --hits are then patterns with a %d for the frame");
+    std::string render_gif;
+    render->add_option("--gif", render_gif,
+                       "with --frames: also write the frames as one animated GIF, looping at the animation's rate");
 
     SceneOptions trace_so;
     std::string trace_out, trace_json, trace_select = "any";
@@ -405,7 +421,7 @@ int run_cli(int argc, char** argv) {
             parse_memory_size(max_memory, "--max-memory");
             ::setenv("RAPLAS_MAX_MEMORY", max_memory.c_str(), 1);
         }
-        if (render->parsed()) return cmd_render(render_so, out_png, render->count("--out") > 0, heatmap, hits, json, render_frames);
+        if (render->parsed()) return cmd_render(render_so, out_png, render->count("--out") > 0, heatmap, hits, json, render_frames, render_gif);
         if (trace->parsed()) return cmd_trace(trace_so, trace_out, trace_json, trace_select);
         if (simulate->parsed()) return cmd_simulate(sim);
         if (sweep->parsed()) return cmd_sweep(sweep_args);

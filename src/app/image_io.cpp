@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include "oiio_module.hpp"
@@ -74,12 +75,56 @@ std::uint8_t to_srgb8(float linear) {
     return static_cast<std::uint8_t>(std::lround(s * 255.0));
 }
 
+std::vector<std::uint8_t> srgb8(const std::vector<float>& rgb) {
+    std::vector<std::uint8_t> px(rgb.size());
+    for (std::size_t i = 0; i < rgb.size(); ++i) px[i] = to_srgb8(rgb[i]);
+    return px;
+}
+
 }  // namespace
 
 void write_rgb_image(const std::string& path, int width, int height, const std::vector<float>& rgb) {
-    std::vector<std::uint8_t> px(rgb.size());
-    for (std::size_t i = 0; i < rgb.size(); ++i) px[i] = to_srgb8(rgb[i]);
-    write_rgb8(path, width, height, px);
+    write_rgb8(path, width, height, srgb8(rgb));
+}
+
+AnimationWriter::AnimationWriter(const std::string& path, int width, int height, double fps)
+    : path_(path), tmp_(temp_path_for(path)), pixels_(std::size_t(width) * std::size_t(height) * 3) {
+    // The rate as a fraction with a denominator of 1000 (GIF keeps hundredths of a second).
+    const int den = 1000, num = std::max(1, int(std::lround(fps * den)));
+    char err[512] = "";
+    anim_ = oiio().anim_open(tmp_.c_str(), width, height, num, den, err, sizeof err);
+    if (!anim_) {
+        std::remove(tmp_.c_str());
+        throw InputError(path + ": cannot write an animation: " + err);
+    }
+}
+
+AnimationWriter::~AnimationWriter() {
+    if (!anim_) return;
+    char err[512] = "";
+    oiio().anim_close(anim_, err, sizeof err);
+    std::remove(tmp_.c_str());
+}
+
+void AnimationWriter::add(const std::vector<float>& rgb) {
+    if (rgb.size() != pixels_) throw InputError(path_ + ": the frames of an animation must all have one size");
+    char err[512] = "";
+    if (oiio().anim_add(anim_, srgb8(rgb).data(), err, sizeof err) != 0)
+        throw InputError(path_ + ": cannot write an animation: " + err);
+}
+
+void AnimationWriter::finish() {
+    char err[512] = "";
+    void* a = anim_;
+    anim_ = nullptr;
+    if (oiio().anim_close(a, err, sizeof err) != 0) {
+        std::remove(tmp_.c_str());
+        throw InputError(path_ + ": cannot write an animation: " + err);
+    }
+    if (std::rename(tmp_.c_str(), path_.c_str()) != 0) {
+        std::remove(tmp_.c_str());
+        throw InputError(path_ + ": cannot write an animation: cannot rename the temporary file into place");
+    }
 }
 
 void write_heatmap(const std::string& path, int width, int height, const std::vector<std::uint64_t>& work) {

@@ -10,7 +10,7 @@
 extern "C" {
 
 // Raised whenever the functions below change.
-inline constexpr int kRaplasOiioAbi = 1;
+inline constexpr int kRaplasOiioAbi = 2;
 
 struct RaplasOiioApi {
     int abi;
@@ -23,6 +23,15 @@ struct RaplasOiioApi {
     // the reason in err.
     int (*read_rgb8)(const char* path, int* width, int* height, void* ctx,
                      std::uint8_t* (*alloc)(void* ctx, std::size_t bytes), char* err, std::size_t err_size);
+    // An animation (GIF, or any format OpenImageIO writes several subimages
+    // to): opened for W x H frames at fps_num / fps_den frames per second,
+    // looping; frames added one at a time as 8-bit RGB; closed. open returns
+    // nullptr and add and close non-zero on failure, the reason in err; close
+    // frees the handle in every case.
+    void* (*anim_open)(const char* path, int width, int height, int fps_num, int fps_den, char* err,
+                       std::size_t err_size);
+    int (*anim_add)(void* anim, const std::uint8_t* pixels, char* err, std::size_t err_size);
+    int (*anim_close)(void* anim, char* err, std::size_t err_size);
 };
 
 // The module's one exported symbol.
