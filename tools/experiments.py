@@ -954,7 +954,7 @@ def animations(c):
     ax.axhline(400e6 / 24, color="grey", linewidth=0.8, linestyle=":")
     ax.text(0, 400e6 / 24 * 1.1, "24 frames/s", fontsize=7, color="grey")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=6, ncol=2)
+    ax.legend(fontsize=7, ncol=2, loc="upper center", bbox_to_anchor=(0.5, -0.13))
     ax.set_title("RAPLAS cycles per frame (config paper, FIFO 1000)" + c.note(), fontsize=9)
     save_png(fig, c.out("animations_cycles.png"))
     host = os.path.join(ROOT, "docs", "results", "animation_host_64.json")
