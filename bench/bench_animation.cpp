@@ -36,6 +36,7 @@
 #include "raplas/frontend/tracer.hpp"
 #include "raplas/scene/animation.hpp"
 #include "raplas/scene/scene.hpp"
+#include "raplas/util/bytes.hpp"
 #include "raplas/util/parallel.hpp"
 #include "bench_util.hpp"
 #include "embree_rays.hpp"
@@ -132,23 +133,13 @@ std::size_t motion_mismatches(const Mesh& still, const Mesh& moved, const FrameM
         for (int c = 0; c < 3; ++c) {
             const Vec3f want = to_f(fm.motions[static_cast<std::size_t>(k)].apply(to_d(still.corner(t, c))));
             const Vec3f got = moved.corner(t, c);
-            if (std::memcmp(&want, &got, sizeof want) != 0) ++bad;
+            if (!same_bits(want, got)) ++bad;
         }
     }
     return bad;
 }
 
 // ---- sphere sets compared -----------------------------------------------------
-
-template <class T>
-bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
-    return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
-}
-
-bool identical(const SphereSet& a, const SphereSet& b) {
-    return same_bytes(a.spheres, b.spheres) && a.first_tri == b.first_tri && a.tri_count == b.tri_count &&
-           same_bytes(a.triangles, b.triangles) && a.tri_mesh_index == b.tri_mesh_index && a.tri_sphere == b.tri_sphere;
-}
 
 bool same_mesh(const Mesh& a, const Mesh& b) {
     return a.triangles == b.triangles && same_bytes(a.vertices, b.vertices);
@@ -197,7 +188,7 @@ void enclosure(const SphereSet& s, const Mesh& mesh, double margin, std::size_t&
 Comparison compare(const SphereSet& s, const SphereSet& rebuilt, const Mesh& mesh, double margin) {
     Comparison c;
     c.computed = true;
-    c.identical = identical(s, rebuilt);
+    c.identical = same_spheres(s, rebuilt);
     c.same_order = s.first_tri == rebuilt.first_tri && s.tri_count == rebuilt.tri_count &&
                    s.tri_mesh_index == rebuilt.tri_mesh_index;
     std::vector<std::size_t> pos(rebuilt.tri_mesh_index.size());
@@ -216,8 +207,8 @@ Comparison compare(const SphereSet& s, const SphereSet& rebuilt, const Mesh& mes
         ++c.matched;
         const Sphere& a = s.spheres[j];
         const Sphere& b = rebuilt.spheres[k];
-        if (std::memcmp(&a.c, &b.c, sizeof a.c) == 0) ++c.centre_equal;
-        if (std::memcmp(&a.r, &b.r, sizeof a.r) == 0) ++c.radius_equal;
+        if (same_bits(a.c, b.c)) ++c.centre_equal;
+        if (same_bits(a.r, b.r)) ++c.radius_equal;
         const double dc = length(to_d(a.c) - to_d(b.c)), dr = std::fabs(double(a.r) - double(b.r));
         c.max_centre_diff = std::max(c.max_centre_diff, dc);
         c.max_radius_diff = std::max(c.max_radius_diff, dr);
@@ -245,7 +236,7 @@ std::size_t primary_hit_differences(const Scene& scene, const SphereSet& a, cons
             const Hit& y = rb.hits[r];
             const std::int32_t mx = x.tri < 0 ? -1 : a.tri_mesh_index[static_cast<std::size_t>(x.tri)];
             const std::int32_t my = y.tri < 0 ? -1 : b.tri_mesh_index[static_cast<std::size_t>(y.tri)];
-            if (mx != my || (mx >= 0 && std::memcmp(&x.t, &y.t, sizeof x.t) != 0)) ++diff[i];
+            if (mx != my || (mx >= 0 && !same_bits(x.t, y.t))) ++diff[i];
         }
     });
     std::size_t n = 0;
@@ -583,7 +574,7 @@ SceneResult run_scene(const std::string& name, const Options& o) {
                 F.em_refit_shadow_s = rr.shadow_s;
                 F.em_refit_occluded = rr.occluded;
                 for (std::size_t px = 0; px < rr.primary_t.size(); ++px)
-                    if (std::memcmp(&rr.primary_t[px], &er.primary_t[px], sizeof(float)) != 0) ++F.refit_primary_diff;
+                    if (!same_bits(rr.primary_t[px], er.primary_t[px])) ++F.refit_primary_diff;
             }
         }
         R.frames.push_back(F);

@@ -9,6 +9,7 @@
 #include <mutex>
 
 #include "raplas/frontend/group_source.hpp"
+#include "raplas/util/bytes.hpp"
 #include "raplas/util/parallel.hpp"
 
 namespace raplas {
@@ -104,11 +105,8 @@ Frame render_frame(const Scene& scene, const FrameOptions& opt) {
     f.sphere_margin = conservative_margin(opt.format.unit_roundoff(), scene_extent(scene));
     SphereCache* const cache = opt.sphere_cache;
     const Mesh& m = scene.mesh;
-    auto same_bytes = [](const auto& a, const auto& b) {
-        return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0);
-    };
     if (cache && cache->valid && cache->k == scene.tris_per_sphere && cache->method == scene.sphere_method &&
-        std::memcmp(&cache->margin, &f.sphere_margin, sizeof(double)) == 0 && same_bytes(cache->vertices, m.vertices) &&
+        same_bits(cache->margin, f.sphere_margin) && same_bytes(cache->vertices, m.vertices) &&
         same_bytes(cache->triangles, m.triangles)) {
         f.spheres = cache->spheres;
         ++cache->reused;

@@ -1,5 +1,7 @@
 #include "raplas/frontend/spheres.hpp"
 
+#include "raplas/util/bytes.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -228,6 +230,11 @@ SphereSet refit_spheres(const SphereSet& prev, double prev_margin, const Mesh& m
         s.spheres[j] = out;
     });
     return s;
+}
+
+bool same_spheres(const SphereSet& a, const SphereSet& b) {
+    return same_bytes(a.spheres, b.spheres) && a.first_tri == b.first_tri && a.tri_count == b.tri_count &&
+           same_bytes(a.triangles, b.triangles) && a.tri_mesh_index == b.tri_mesh_index && a.tri_sphere == b.tri_sphere;
 }
 
 SphereQuality sphere_quality(const SphereSet& s) {

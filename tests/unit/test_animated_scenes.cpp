@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <limits>
 #include <random>
 #include <stdexcept>
@@ -19,6 +18,7 @@
 #include "raplas/frontend/spheres.hpp"
 #include "raplas/scene/animation.hpp"
 #include "raplas/scene/scene.hpp"
+#include "raplas/util/bytes.hpp"
 #include "shared_scenes.hpp"
 
 namespace animated_scenes_test {
@@ -35,22 +35,6 @@ Scene load_shipped(const std::string& name) {
     raplas::SceneRequest req;
     req.scene_file = std::string(RAPLAS_SOURCE_DIR) + "/scenes/" + name + ".toml";
     return raplas::load_scene(req);
-}
-
-template <class T>
-bool bytes_equal(const T& a, const T& b) {
-    return std::memcmp(&a, &b, sizeof(T)) == 0;
-}
-
-template <class T>
-bool vector_bytes_equal(const std::vector<T>& a, const std::vector<T>& b) {
-    return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
-}
-
-bool same_set(const SphereSet& a, const SphereSet& b) {
-    return vector_bytes_equal(a.spheres, b.spheres) && a.first_tri == b.first_tri && a.tri_count == b.tri_count &&
-           vector_bytes_equal(a.triangles, b.triangles) && a.tri_mesh_index == b.tri_mesh_index &&
-           a.tri_sphere == b.tri_sphere;
 }
 
 // Spheres some corner of their triangles (in `mesh`) is outside of, with `margin` to spare.
@@ -117,14 +101,14 @@ TEST(AnimatedScenes, ConferenceOrbitMovesOnlyTheCamera) {
     const Scene a = raplas::scene_at_frame(s, 0), b = raplas::scene_at_frame(s, 24);
     // The still scene (what render, trace and simulate draw) is frame 0 to the rounding of the eye.
     EXPECT_LT(raplas::length(s.camera.eye - a.camera.eye), 0.01);
-    EXPECT_TRUE(bytes_equal(s.camera.look_at, a.camera.look_at));
+    EXPECT_TRUE(raplas::same_bits(s.camera.look_at, a.camera.look_at));
     // Half a turn: the eye is on the other side of the table, at the same height, looking at the same point.
     EXPECT_GT(raplas::length(a.camera.eye - b.camera.eye), 1000.0);
     EXPECT_DOUBLE_EQ(a.camera.eye.y, b.camera.eye.y);
-    EXPECT_TRUE(bytes_equal(a.camera.look_at, b.camera.look_at));
-    EXPECT_TRUE(vector_bytes_equal(a.mesh.vertices, b.mesh.vertices));
+    EXPECT_TRUE(raplas::same_bits(a.camera.look_at, b.camera.look_at));
+    EXPECT_TRUE(raplas::same_bytes(a.mesh.vertices, b.mesh.vertices));
     EXPECT_EQ(a.mesh.triangles, b.mesh.triangles);
-    EXPECT_TRUE(bytes_equal(a.light.corner, b.light.corner));
+    EXPECT_TRUE(raplas::same_bits(a.light.corner, b.light.corner));
     // Every frame's eye stays inside the room and below its largest coordinate: the
     // scene's extent (and so the spheres' margin) is frame 0's in every frame.
     const raplas::Aabb room = s.mesh.bounds();
@@ -146,8 +130,8 @@ TEST(AnimatedScenes, BunnyTurnsOnItsFloorAndTheFloorStays) {
     const Scene a = raplas::scene_at_frame(s, 0), b = raplas::scene_at_frame(s, 24);
     ASSERT_EQ(a.mesh.triangles, b.mesh.triangles);  // same topology: only positions change
     ASSERT_EQ(a.mesh.triangle_object.size(), a.mesh.triangle_count());
-    EXPECT_TRUE(bytes_equal(a.camera.eye, b.camera.eye));
-    EXPECT_TRUE(bytes_equal(a.light.corner, b.light.corner));
+    EXPECT_TRUE(raplas::same_bits(a.camera.eye, b.camera.eye));
+    EXPECT_TRUE(raplas::same_bits(a.light.corner, b.light.corner));
     const Vec3d pivot = s.animation->objects.at(0).pivot;
     std::size_t floor = 0, bunny = 0, moved = 0;
     float bunny_low_a = INFINITY, bunny_low_b = INFINITY, floor_top = -INFINITY;
@@ -157,7 +141,7 @@ TEST(AnimatedScenes, BunnyTurnsOnItsFloorAndTheFloorStays) {
         for (int k = 0; k < 3; ++k) {
             const Vec3f p = a.mesh.corner(t, k), q = b.mesh.corner(t, k);
             if (is_floor) {
-                EXPECT_TRUE(bytes_equal(p, q)) << "floor triangle " << t << " moved";
+                EXPECT_TRUE(raplas::same_bits(p, q)) << "floor triangle " << t << " moved";
                 floor_top = std::max(floor_top, p.y);
                 continue;
             }
@@ -165,7 +149,7 @@ TEST(AnimatedScenes, BunnyTurnsOnItsFloorAndTheFloorStays) {
             EXPECT_NEAR(q.y, p.y, 1e-7);
             EXPECT_NEAR(q.x, 2 * pivot.x - p.x, 1e-6);
             EXPECT_NEAR(q.z, 2 * pivot.z - p.z, 1e-6);
-            if (!bytes_equal(p, q)) ++moved;
+            if (!raplas::same_bits(p, q)) ++moved;
             bunny_low_a = std::min(bunny_low_a, p.y);
             bunny_low_b = std::min(bunny_low_b, q.y);
         }
@@ -187,16 +171,16 @@ TEST(AnimatedScenes, WaveGridDeforms) {
     const Scene a = raplas::scene_at_frame(s, 0), b = raplas::scene_at_frame(s, 24);
     ASSERT_EQ(a.mesh.triangles, b.mesh.triangles);
     ASSERT_EQ(a.mesh.vertices.size(), b.mesh.vertices.size());
-    EXPECT_TRUE(bytes_equal(a.camera.eye, b.camera.eye));
-    EXPECT_TRUE(bytes_equal(a.light.corner, b.light.corner));
+    EXPECT_TRUE(raplas::same_bits(a.camera.eye, b.camera.eye));
+    EXPECT_TRUE(raplas::same_bits(a.light.corner, b.light.corner));
     std::size_t changed = 0;
     for (std::size_t i = 0; i < a.mesh.vertices.size(); ++i) {
         const Vec3f p = a.mesh.vertices[i], q = b.mesh.vertices[i];
-        EXPECT_TRUE(bytes_equal(p.x, q.x) && bytes_equal(p.z, q.z)) << "vertex " << i << " moved sideways";
+        EXPECT_TRUE(raplas::same_bits(p.x, q.x) && raplas::same_bits(p.z, q.z)) << "vertex " << i << " moved sideways";
         EXPECT_LE(std::fabs(q.y), 0.25f + 1e-6f);
         // Half a period later the wave is upside down: y(24) = -y(0).
         EXPECT_NEAR(q.y, -p.y, 1e-6);
-        if (!bytes_equal(p.y, q.y)) ++changed;
+        if (!raplas::same_bits(p.y, q.y)) ++changed;
     }
     EXPECT_GT(changed, a.mesh.vertices.size() * 9 / 10);
 }
@@ -211,7 +195,7 @@ TEST(AnimatedSphereRefit, FittingAgainAnUnmovedMeshIsTheBuild) {
             const SphereSet built = raplas::build_spheres(m, k, method, margin);
             const SphereSet again =
                 raplas::refit_spheres(built, margin, m, {}, {}, SphereRefit::enclose, method, margin, 2);
-            EXPECT_TRUE(same_set(built, again)) << method << " K=" << k;
+            EXPECT_TRUE(raplas::same_spheres(built, again)) << method << " K=" << k;
         }
     }
 }
@@ -222,7 +206,7 @@ TEST(AnimatedSphereRefit, IdentityMotionKeepsTheSpheresBitForBit) {
     const SphereSet built = raplas::build_spheres(m, 2, "median-split", margin);
     const std::vector<std::int32_t> motion(m.triangle_count(), 0);
     for (SphereRefit mode : {SphereRefit::transform, SphereRefit::transform_radius})
-        EXPECT_TRUE(same_set(built, raplas::refit_spheres(built, margin, m, motion, {RigidMotion{}}, mode, "median-split", margin)));
+        EXPECT_TRUE(raplas::same_spheres(built, raplas::refit_spheres(built, margin, m, motion, {RigidMotion{}}, mode, "median-split", margin)));
 }
 
 TEST(AnimatedSphereRefit, RigidMotionsKeepEveryTriangleInsideItsSphere) {
@@ -258,7 +242,7 @@ TEST(AnimatedSphereRefit, RigidMotionsKeepEveryTriangleInsideItsSphere) {
                 EXPECT_EQ(s.first_tri, built.first_tri);
                 EXPECT_EQ(s.tri_mesh_index, built.tri_mesh_index);
                 for (std::size_t i = 0; i < s.triangles.size(); ++i)
-                    ASSERT_TRUE(bytes_equal(s.triangles[i],
+                    ASSERT_TRUE(raplas::same_bits(s.triangles[i],
                                             raplas::make_triangle_record(moved, static_cast<std::size_t>(s.tri_mesh_index[i]))));
                 if (mode == SphereRefit::enclose) continue;
                 // A sphere whose triangles share the motion has the moved centre.
@@ -273,7 +257,7 @@ TEST(AnimatedSphereRefit, RigidMotionsKeepEveryTriangleInsideItsSphere) {
                     const Vec3f want = mo == 0 && new_margin == margin
                                            ? built.spheres[j].c
                                            : raplas::to_f(motions[static_cast<std::size_t>(mo)].apply(raplas::to_d(built.spheres[j].c)));
-                    ASSERT_TRUE(bytes_equal(s.spheres[j].c, want)) << "sphere " << j;
+                    ASSERT_TRUE(raplas::same_bits(s.spheres[j].c, want)) << "sphere " << j;
                 }
             }
         }

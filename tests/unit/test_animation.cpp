@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -13,11 +12,15 @@
 
 #include "raplas/scene/animation.hpp"
 #include "raplas/scene/scene.hpp"
+#include "raplas/util/bytes.hpp"
 #include "raplas/util/error.hpp"
 #include "raplas/util/params.hpp"
 #include "run_raplas.hpp"
 
 namespace {
+
+using raplas::same_bits;
+using raplas::same_bytes;
 
 namespace fs = std::filesystem;
 using raplas::Animation;
@@ -32,27 +35,20 @@ using ::testing::AllOf;
 using ::testing::HasSubstr;
 using ::testing::StartsWith;
 
-// Bytes, not values: -0.0 and 0.0 differ, and so would any NaN.
-template <class T>
-bool same_bytes(const T& a, const T& b) {
-    return std::memcmp(&a, &b, sizeof(T)) == 0;
-}
-
 bool same_camera(const Camera& a, const Camera& b) {
-    return same_bytes(a.eye, b.eye) && same_bytes(a.look_at, b.look_at) && same_bytes(a.up, b.up) &&
-           same_bytes(a.fov_deg, b.fov_deg);
+    return same_bits(a.eye, b.eye) && same_bits(a.look_at, b.look_at) && same_bits(a.up, b.up) &&
+           same_bits(a.fov_deg, b.fov_deg);
 }
 
 bool same_mesh(const Mesh& a, const Mesh& b) {
-    return a.vertices.size() == b.vertices.size() && a.triangles == b.triangles &&
-           std::memcmp(a.vertices.data(), b.vertices.data(), a.vertices.size() * sizeof(Vec3f)) == 0 &&
+    return a.triangles == b.triangles && same_bytes(a.vertices, b.vertices) &&
            a.triangle_material == b.triangle_material && a.triangle_object == b.triangle_object;
 }
 
 // Everything of two frames' scenes that an animation can change, byte for byte.
 bool same_frame(const Scene& a, const Scene& b) {
-    return same_camera(a.camera, b.camera) && same_bytes(a.light.corner, b.light.corner) && same_mesh(a.mesh, b.mesh) &&
-           same_bytes(a.diagonal, b.diagonal);
+    return same_camera(a.camera, b.camera) && same_bits(a.light.corner, b.light.corner) && same_mesh(a.mesh, b.mesh) &&
+           same_bits(a.diagonal, b.diagonal);
 }
 
 void expect_near(const Vec3d& got, const Vec3d& want, double tol) {
@@ -128,12 +124,12 @@ TEST_F(AnimationTest, CameraKeyframesAreExactAtTheirFramesAndHeldOutside) {
     EXPECT_TRUE(same_camera(raplas::scene_at_frame(s, 4).camera, k4));
     const Camera c14 = raplas::scene_at_frame(s, 14).camera;
     // (0.7 + (0.1 - 0.7) * 1 is not 0.1, nor 1.1 + (0.3 - 1.1) * 1 0.3: the keyframe, not a blend)
-    EXPECT_TRUE(same_bytes(c14.eye, Vec3d(0.1, 0.3, 10.3)));
-    EXPECT_TRUE(same_bytes(c14.up, Vec3d(0, 1, 0.1)));
-    EXPECT_TRUE(same_bytes(c14.look_at, Vec3d(0, 0, 0)));  // left out: the still camera's
+    EXPECT_TRUE(same_bits(c14.eye, Vec3d(0.1, 0.3, 10.3)));
+    EXPECT_TRUE(same_bits(c14.up, Vec3d(0, 1, 0.1)));
+    EXPECT_TRUE(same_bits(c14.look_at, Vec3d(0, 0, 0)));  // left out: the still camera's
     EXPECT_EQ(c14.fov_deg, 50.0);
     const Camera c20 = raplas::scene_at_frame(s, 20).camera;
-    EXPECT_TRUE(same_bytes(c20.eye, Vec3d(1, 2, 3)));
+    EXPECT_TRUE(same_bits(c20.eye, Vec3d(1, 2, 3)));
     EXPECT_EQ(c20.fov_deg, 35.0);  // the still camera's
     // held before the first keyframe and after the last
     for (int f : {0, 3}) EXPECT_TRUE(same_camera(raplas::scene_at_frame(s, f).camera, k4)) << f;
@@ -165,9 +161,9 @@ TEST_F(AnimationTest, LightKeyframes) {
         "[[animation.light]]\nframe = 0\ncorner = [-1, 4, 0.1]\n"
         "[[animation.light]]\nframe = 10\ncorner = [1.1, 2, 0.3]\n"
         "[[animation.light]]\nframe = 20\ncorner = [0.3, 2, 0.1]\n");
-    EXPECT_TRUE(same_bytes(raplas::scene_at_frame(s, 0).light.corner, Vec3d(-1, 4, 0.1)));
-    EXPECT_TRUE(same_bytes(raplas::scene_at_frame(s, 10).light.corner, Vec3d(1.1, 2, 0.3)));
-    EXPECT_TRUE(same_bytes(raplas::scene_at_frame(s, 20).light.corner, Vec3d(0.3, 2, 0.1)));
+    EXPECT_TRUE(same_bits(raplas::scene_at_frame(s, 0).light.corner, Vec3d(-1, 4, 0.1)));
+    EXPECT_TRUE(same_bits(raplas::scene_at_frame(s, 10).light.corner, Vec3d(1.1, 2, 0.3)));
+    EXPECT_TRUE(same_bits(raplas::scene_at_frame(s, 20).light.corner, Vec3d(0.3, 2, 0.1)));
     expect_near(raplas::scene_at_frame(s, 5).light.corner, {0.05, 3, 0.2}, 1e-12);
     expect_near(raplas::scene_at_frame(s, 15).light.corner, {0.7, 2, 0.2}, 1e-12);
     // the edges stay the still light's
@@ -229,7 +225,7 @@ TEST_F(AnimationTest, RigidMotionOfAKnownTriangle) {
     expect_near(corner(f5, 0, 2), {2, 0, 4 * h}, 1e-6);
     // frame 0: the first keyframe moves nothing; the mesh is the still one, byte for byte
     const Scene f0 = raplas::scene_at_frame(s, 0);
-    for (int k = 0; k < 3; ++k) EXPECT_TRUE(same_bytes(f0.mesh.corner(0, k), s.mesh.corner(0, k)));
+    for (int k = 0; k < 3; ++k) EXPECT_TRUE(same_bits(f0.mesh.corner(0, k), s.mesh.corner(0, k)));
     // the diagonal follows the moved mesh
     EXPECT_GT(f10.diagonal, s.diagonal);
 }

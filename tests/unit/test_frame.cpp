@@ -2,7 +2,6 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
-#include <cstring>
 #include <string>
 #include <vector>
 
@@ -10,6 +9,7 @@
 #include "raplas/scene/animation.hpp"
 #include "raplas/scene/mesh.hpp"
 #include "raplas/scene/scene.hpp"
+#include "raplas/util/bytes.hpp"
 #include "raplas/util/params.hpp"
 
 namespace {
@@ -56,20 +56,6 @@ TEST(FrameSkips, HitPointsFacingAwayFromTheLightGetNoShadowGroupAndTheSameImage)
 
 }  // namespace
 
-namespace {
-
-template <class V>
-bool same_bytes(const V& a, const V& b) {
-    return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0);
-}
-
-bool same_spheres(const SphereSet& a, const SphereSet& b) {
-    return same_bytes(a.spheres, b.spheres) && same_bytes(a.first_tri, b.first_tri) &&
-           same_bytes(a.tri_count, b.tri_count) && same_bytes(a.triangles, b.triangles) &&
-           same_bytes(a.tri_mesh_index, b.tri_mesh_index) && same_bytes(a.tri_sphere, b.tri_sphere);
-}
-
-}  // namespace
 
 TEST(SphereCache, StaticGeometryBuildsItsSpheresOnceAndMovedGeometryAgainBitForBit) {
     // An orbit moves the camera only; the built-in animation also turns the box.
@@ -94,7 +80,7 @@ TEST(SphereCache, StaticGeometryBuildsItsSpheresOnceAndMovedGeometryAgainBitForB
         for (int f = 0; f < 3; ++f) {
             const Scene s = scene_at_frame(base, f);
             const Frame a = render_frame(s, with), b = render_frame(s, without);
-            EXPECT_TRUE(same_spheres(a.spheres, b.spheres)) << "frame " << f << (moving ? ", moving" : ", static");
+            EXPECT_TRUE(raplas::same_spheres(a.spheres, b.spheres)) << "frame " << f << (moving ? ", moving" : ", static");
             EXPECT_TRUE(same_bytes(a.rgb, b.rgb)) << "frame " << f;
         }
         EXPECT_EQ(cache.built, moving ? 3u : 1u);

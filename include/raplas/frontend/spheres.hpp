@@ -41,6 +41,9 @@ struct SphereQuality {
 SphereSet build_spheres(const Mesh& mesh, int tris_per_sphere, const std::string& method, double margin,
                         unsigned threads = 1);
 SphereQuality sphere_quality(const SphereSet& s);
+// Every array of the two sets byte for byte the same: the same Sphere and
+// Triangle Memories.
+bool same_spheres(const SphereSet& a, const SphereSet& b);
 
 // How refit_spheres() gets a sphere whose triangles all share one rigid motion.
 enum class SphereRefit {
