@@ -223,11 +223,8 @@ bool SceneOptions::load(Scene& out, double& load_s, const std::function<void(Par
             throw;
         }
     }
-    if ((frame >= 0 || animate) && scene.empty() && mesh.empty()) {
-        bool animation_given = false;
-        for (const auto& k : p.keys()) animation_given = animation_given || (k.rfind("animation.", 0) == 0 && p.is_given(k));
-        if (!animation_given) p.set("animation.builtin=default");
-    }
+    if ((frame >= 0 || animate) && scene.empty() && mesh.empty() && !animation_keys_given(p))
+        p.set("animation.builtin=default");
     if (adjust) adjust(p);
     out = scene_from_params(p, mesh);
     if (dump_scene) {  // what was chosen automatically, as values that can be pasted into a scene file
@@ -239,11 +236,8 @@ bool SceneOptions::load(Scene& out, double& load_s, const std::function<void(Par
     frames_in_animation = frame_count(out);
     animation_fps = out.animation ? out.animation->fps : 0.0;
     if (frame >= 0) {
-        const int n = frame_count(out);
-        if (frame >= n)
-            throw InputError("--frame " + std::to_string(frame) + ": the scene '" + out.name + "' has " + std::to_string(n) +
-                             (n == 1 ? " frame (it is not animated: docs/SCENES.md, \"Animation\")"
-                                     : " frames (0 to " + std::to_string(n - 1) + ")"));
+        if (frame >= frame_count(out))
+            throw InputError("--frame " + std::to_string(frame) + ": " + scene_frames_text(out.name, frame_count(out)));
         out = scene_at_frame(out, frame);
     }
     load_s = since(t0);

@@ -32,6 +32,7 @@
 #include "commands.hpp"
 #include "config.hpp"
 #include "raplas/app/csv_table.hpp"
+#include "raplas/scene/animation.hpp"
 #include "sweep_table.hpp"
 #include "raplas/app/processes.hpp"
 #include "raplas/app/progress.hpp"
@@ -315,7 +316,7 @@ Sweep make_sweep(const SweepArgs& a, const std::string& wd) {
         ParamSet p = scene_params();
         if (in.kind == "scene") p.load_file(in.path);
         for (const auto& x : t.sets) p.set(x);
-        for (const auto& k : p.keys()) t.animated = t.animated || (k.rfind("animation.", 0) == 0 && p.is_given(k));
+        t.animated = animation_keys_given(p);
         sw.animated = sw.animated || t.animated;
     }
     sw.spec = {{"sweep_format", kSpecVersion},

@@ -41,11 +41,15 @@ const char* const kFrameCommonKeys[] = {"scene",  "config",         "overrides",
 
 }  // namespace
 
+std::string scene_frames_text(const std::string& scene_name, int frames) {
+    return "the scene '" + scene_name + "' has " + std::to_string(frames) +
+           (frames == 1 ? " frame (it is not animated: docs/SCENES.md, \"Animation\")"
+                        : " frames (0 to " + std::to_string(frames - 1) + ")");
+}
+
 FrameRange parse_frames(const std::string& spec, int frames, const std::string& scene_name) {
     const std::string head = "--frames '" + spec + "': ";
-    const std::string has = "the scene '" + scene_name + "' has " + std::to_string(frames) +
-                            (frames == 1 ? " frame (it is not animated: docs/SCENES.md, \"Animation\")"
-                                         : " frames (0 to " + std::to_string(frames - 1) + ")");
+    const std::string has = scene_frames_text(scene_name, frames);
     FrameRange r;
     if (spec == "all") {
         r.last = frames - 1;
@@ -78,15 +82,12 @@ void check_frame_pattern(const std::string& pattern, const std::string& option) 
 
 std::string frame_file(const std::string& pattern, int frame) { return sequence_file_name(pattern, frame); }
 
-nlohmann::json frames_json(const std::vector<nlohmann::json>& per_frame) {
+nlohmann::json frames_json(const std::vector<nlohmann::json>& per_frame, const nlohmann::json& t) {
     nlohmann::json j;
     const nlohmann::json& first = per_frame.at(0);
     for (const char* k : kFrameCommonKeys)
         if (first.contains(k)) j[k] = first[k];
     nlohmann::json frames = nlohmann::json::array();
-    std::uint64_t cycles = 0, passes = 0, groups = 0, checked = 0, mismatched = 0;
-    double time_ms = 0, wall_fe = 0, wall_model = 0;
-    bool estimated = false, match = true, all_checked = true;
     std::size_t worst = 0;
     for (std::size_t i = 0; i < per_frame.size(); ++i) {
         const nlohmann::json& f = per_frame[i];
@@ -97,43 +98,31 @@ nlohmann::json frames_json(const std::vector<nlohmann::json>& per_frame) {
             for (const char* c : kFrameCommonKeys) common = common || k == c;
             if (!common) e[k] = v;
         }
-        const double ms = f.at("time_ms").get<double>();
-        e["fps_at_clock"] = ms > 0 ? 1e3 / ms : 0.0;
-        const std::uint64_t c = f.at("total_cycles").get<std::uint64_t>();
-        if (c > per_frame[worst].at("total_cycles").get<std::uint64_t>()) worst = i;
-        cycles += c;
-        time_ms += ms;
-        passes += f.at("passes").get<std::uint64_t>();
-        groups += f.at("ray_groups").get<std::uint64_t>();
-        estimated = estimated || f.contains("estimate");
-        all_checked = all_checked && f.at("functional_checked").get<bool>();
-        match = match && f.at("functional_match").get<bool>();
-        checked += f.at("rays_checked").get<std::uint64_t>();
-        mismatched += f.at("rays_mismatched").get<std::uint64_t>();
-        wall_fe += f.at("wall").at("frontend_s").get<double>();
-        wall_model += f.at("wall").at("model_s").get<double>();
+        e["fps_at_clock"] = fps_at_clock(f.at("time_ms").get<double>());
+        if (f.at("total_cycles").get<std::uint64_t>() > per_frame[worst].at("total_cycles").get<std::uint64_t>()) worst = i;
         frames.push_back(std::move(e));
     }
+    const double time_ms = t.at("time_ms").get<double>();
     const double worst_ms = per_frame[worst].at("time_ms").get<double>();
     const double rate = first.contains("animation") ? first["animation"].value("fps", 0.0) : 0.0;
     j["frames"] = std::move(frames);
     j["totals"] = {{"frames", per_frame.size()},
-                   {"total_cycles", cycles},
+                   {"total_cycles", t.at("total_cycles")},
                    {"time_ms", time_ms},
                    {"fps_at_clock", time_ms > 0 ? 1e3 * double(per_frame.size()) / time_ms : 0.0},
                    {"worst_frame", per_frame[worst].at("frame")},
                    {"worst_frame_cycles", per_frame[worst].at("total_cycles")},
                    {"worst_frame_time_ms", worst_ms},
-                   {"worst_fps_at_clock", worst_ms > 0 ? 1e3 / worst_ms : 0.0},
+                   {"worst_fps_at_clock", fps_at_clock(worst_ms)},
                    {"keeps_animation_rate", worst_ms > 0 && 1e3 / worst_ms >= rate},
-                   {"passes", passes},
-                   {"ray_groups", groups},
-                   {"estimated", estimated},
-                   {"functional_checked", all_checked},
-                   {"functional_match", match},
-                   {"rays_checked", checked},
-                   {"rays_mismatched", mismatched},
-                   {"wall", {{"frontend_s", wall_fe}, {"model_s", wall_model}}}};
+                   {"passes", t.at("passes")},
+                   {"ray_groups", t.at("ray_groups")},
+                   {"estimated", t.contains("estimate")},
+                   {"functional_checked", t.at("functional_checked")},
+                   {"functional_match", t.at("functional_match")},
+                   {"rays_checked", t.at("rays_checked")},
+                   {"rays_mismatched", t.at("rays_mismatched")},
+                   {"wall", {{"frontend_s", t.at("wall").at("frontend_s")}, {"model_s", t.at("wall").at("model_s")}}}};
     return j;
 }
 
@@ -152,17 +141,19 @@ nlohmann::json animation_totals_json(const std::vector<nlohmann::json>& per_fram
         "/links/triangle/stall_cycles", "/links/triangle/idle_cycles", "/links/triangle/bytes", "/links/output/bytes",
         "/icc_totals/rti_busy_cycles", "/icc_totals/blocked_triangle_fifo_full", "/icc_totals/blocked_undecided",
         "/icc_totals/blocked_sphere_fifo_full", "/memory/sphere_records_read", "/memory/triangle_records_read",
-        "/memory/memory_bound_cycles", "/memory/pe_bound_cycles", "/rays_checked", "/rays_mismatched"};
+        "/memory/memory_bound_cycles", "/memory/pe_bound_cycles", "/rays_checked", "/rays_mismatched",
+        "/wall/frontend_s", "/wall/model_s"};
     static const char* const maxima[] = {"/icc_totals/max_triangle_fifo_occupancy",
                                          "/icc_totals/max_sphere_fifo_occupancy",
                                          "/icc_totals/max_planeid_fifo_occupancy"};
     std::string hashes;
     double active = 0;  // ICC pass cycles, for the RTI utilisation
-    bool match = true;
+    bool match = true, checked = true;
     for (std::size_t i = 0; i < per_frame.size(); ++i) {
         const nlohmann::json& f = per_frame[i];
         hashes += f.value("workload_hash", "") + ";";
         match = match && f.at("functional_match").get<bool>();
+        checked = checked && f.at("functional_checked").get<bool>();
         if (f.contains("iccs_detail"))
             for (const auto& k : f["iccs_detail"]) active += k.value("active_cycles", 0.0);
         if (f.contains("estimate") && !t.contains("estimate")) t["estimate"] = f["estimate"];
@@ -179,6 +170,7 @@ nlohmann::json animation_totals_json(const std::vector<nlohmann::json>& per_fram
         }
     }
     t["functional_match"] = match;
+    t["functional_checked"] = checked;
     t["workload_hash"] = hex64(fnv1a64(hashes));
     const double seconds = t["time_ms"].get<double>() / 1e3;
     for (const char* link : {"sphere", "triangle"})
@@ -197,16 +189,15 @@ std::string animation_row_csv(const nlohmann::json& totals, std::uint64_t frames
     row.pop_back();
     char buf[128];
     std::snprintf(buf, sizeof buf, ",%llu,%d,%llu,%.10g\n", (unsigned long long)frames, worst_frame,
-                  (unsigned long long)worst_cycles, worst_ms > 0 ? 1e3 / worst_ms : 0.0);
+                  (unsigned long long)worst_cycles, fps_at_clock(worst_ms));
     return header + ",frames,worst_frame,worst_frame_cycles,worst_fps_at_clock\n" + row + buf;
 }
 
 std::string frames_csv(const std::vector<nlohmann::json>& per_frame) {
     std::string out = "frame,fps_at_clock," + sim_csv_header();
     for (const auto& f : per_frame) {
-        const double ms = f.at("time_ms").get<double>();
         char buf[64];
-        std::snprintf(buf, sizeof buf, "%d,%.10g,", f.at("frame").get<int>(), ms > 0 ? 1e3 / ms : 0.0);
+        std::snprintf(buf, sizeof buf, "%d,%.10g,", f.at("frame").get<int>(), fps_at_clock(f.at("time_ms").get<double>()));
         out += buf + sim_csv_row(f);
     }
     return out;
@@ -365,13 +356,14 @@ int simulate_frames(const SimulateArgs& a, const SceneOptions& so_in) {
 
     std::vector<nlohmann::json> per_frame;
     for (int f = range.first; f <= range.last; ++f) per_frame.push_back(nlohmann::json::parse(read_file(result_of(f))));
-    const nlohmann::json j = frames_json(per_frame);
+    const nlohmann::json totals = animation_totals_json(per_frame);
+    const nlohmann::json j = frames_json(per_frame, totals);
     if (!a.json.empty()) write_file_atomically(a.json, j.dump(2) + "\n");
     if (!a.csv.empty()) {
         const nlohmann::json& t = j["totals"];
         write_file_atomically(a.csv, a.animation_row
-                                         ? animation_row_csv(animation_totals_json(per_frame), per_frame.size(),
-                                                             t["worst_frame"].get<int>(), t["worst_frame_cycles"].get<std::uint64_t>(),
+                                         ? animation_row_csv(totals, per_frame.size(), t["worst_frame"].get<int>(),
+                                                             t["worst_frame_cycles"].get<std::uint64_t>(),
                                                              t["worst_frame_time_ms"].get<double>())
                                          : frames_csv(per_frame));
     }
@@ -447,7 +439,7 @@ int merge_frames(const MergeArgs& a) {
                              std::to_string(first) + " to " + std::to_string(last) + ")");
     std::vector<nlohmann::json> per_frame;
     for (auto& [f, fj] : frames) per_frame.push_back(std::move(fj.second));
-    const nlohmann::json j = frames_json(per_frame);
+    const nlohmann::json j = frames_json(per_frame, animation_totals_json(per_frame));
     if (!a.json.empty()) write_file_atomically(a.json, j.dump(2) + "\n");
     if (!a.csv.empty()) write_file_atomically(a.csv, frames_csv(per_frame));
     if (!a.quiet) std::cout << frames_summary(j);

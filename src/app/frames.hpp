@@ -18,6 +18,11 @@ struct FrameRange {
     int count() const { return last - first + 1; }
 };
 
+// "the scene 'NAME' has N frames (0 to N-1)", for the messages refusing a frame.
+std::string scene_frames_text(const std::string& scene_name, int frames);
+// The frame rate a frame of `time_ms` sustains (0 for no time).
+inline double fps_at_clock(double time_ms) { return time_ms > 0 ? 1e3 / time_ms : 0.0; }
+
 // --frames SPEC of a scene of `frames` frames: "N" (frames 0 .. N-1), "A:B"
 // (frames A to B, both included) or "all". InputError naming --frames and
 // the scene otherwise.
@@ -31,7 +36,8 @@ std::string frame_file(const std::string& pattern, int frame);
 // The results of `simulate --frame F --json` for consecutive frames, gathered:
 // the run's common fields once, a `frames` array (each frame's figures, its
 // per-ICC detail and resolved config left out) and `totals`.
-nlohmann::json frames_json(const std::vector<nlohmann::json>& per_frame);
+// `totals` is animation_totals_json(per_frame).
+nlohmann::json frames_json(const std::vector<nlohmann::json>& per_frame, const nlohmann::json& totals);
 // The frames of one run as one simulate result (what a sweep's row of an
 // animated scene holds): every count, cycle and byte summed over the frames,
 // maxima the largest, bandwidths and utilisation over the summed time, the

@@ -549,6 +549,12 @@ RigidMotion motion_at(const ObjectTrack& track, int frame) {
     return r;
 }
 
+bool animation_keys_given(const ParamSet& p) {
+    for (const auto& k : p.keys())
+        if (k.rfind("animation.", 0) == 0 && p.is_given(k)) return true;
+    return false;
+}
+
 int frame_count(const Scene& s) { return s.animation ? s.animation->frames : 1; }
 
 Camera camera_at_frame(const Animation& a, const Camera& still, int frame) {

@@ -105,6 +105,8 @@ struct Animation {
 
 // The [animation] scene keys (scene_params() declares them).
 void add_animation_params(ParamSet& p);
+// Whether a file or --set gave any of them.
+bool animation_keys_given(const ParamSet& p);
 
 // The animation the keys give; `still` is the scene of the keys outside
 // [animation] (what keyframes leave out is its camera's and light's, object
