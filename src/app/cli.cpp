@@ -42,10 +42,11 @@ double since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// One frame: the image files asked for, the JSON report (as an object) and,
-// unless quiet, the summary.
+// One frame: the image files asked for, unless quiet the summary, and with
+// `report` the JSON report (as an object; else null: the sphere qualities it
+// needs, a second sphere build among them, are not computed).
 nlohmann::json render_one(const Scene& scene, const SceneOptions& so, double load_s, const std::string& out_png,
-                          const std::string& heatmap, const std::string& hits, PhaseProgress* progress,
+                          const std::string& heatmap, const std::string& hits, bool report, PhaseProgress* progress,
                           SphereCache* spheres = nullptr, AnimationWriter* gif = nullptr) {
     const NumFormat fmt = so.parsed_format();
     RenderReport rep;
@@ -69,12 +70,13 @@ nlohmann::json render_one(const Scene& scene, const SceneOptions& so, double loa
     rep.scene = &scene;
     rep.frame = &frame;
     rep.format = fmt;
-    rep.quality = sphere_quality(frame.spheres);
-    rep.naive_quality = sphere_quality(build_spheres(scene.mesh, scene.tris_per_sphere, "file-order", frame.sphere_margin));
     if (!so.quiet) {
         std::cout << render_summary(rep);
         if (!out_png.empty()) std::cout << "  wrote " << out_png << "\n";
     }
+    if (!report) return nullptr;
+    rep.quality = sphere_quality(frame.spheres);
+    rep.naive_quality = sphere_quality(build_spheres(scene.mesh, scene.tris_per_sphere, "file-order", frame.sphere_margin));
     return nlohmann::json::parse(render_json(rep));
 }
 
@@ -93,7 +95,7 @@ int cmd_render(const SceneOptions& so_in, std::string out_png, bool out_given, c
     if (!out_png.empty() || !heatmap.empty() || !gif.empty()) load_image_module();
     if (!so.animate) {
         PhaseProgress progress(so.show_progress(), ::isatty(2));
-        nlohmann::json j = render_one(scene, so, load_s, out_png, heatmap, hits, &progress);
+        nlohmann::json j = render_one(scene, so, load_s, out_png, heatmap, hits, !json.empty(), &progress);
         if (so.frame >= 0) j["frame"] = so.frame;
         if (!json.empty()) write_file_atomically(json, j.dump(2) + "\n");
         return 0;
@@ -120,7 +122,8 @@ int cmd_render(const SceneOptions& so_in, std::string out_png, bool out_given, c
         if (!so.quiet) std::cout << "frame " << f << ": ";
         nlohmann::json j = render_one(at, so, f == range.first ? load_s : 0.0, frame_file(out_png, f),
                                       heatmap.empty() ? "" : frame_file(heatmap, f), hits.empty() ? "" : frame_file(hits, f),
-                                      nullptr, &spheres, animation.get());
+                                      !json.empty(), nullptr, &spheres, animation.get());
+        if (json.empty()) continue;
         j["frame"] = f;
         all["frames"].push_back(std::move(j));
     }
