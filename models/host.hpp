@@ -36,16 +36,20 @@ public:
         bool primary = true;
         bool drain = true;
     };
-    std::vector<Pass> plan(std::uint32_t primary_groups, std::uint32_t total_groups) {
+    static std::vector<Pass> plan(const Params& params, std::uint32_t primary_groups, std::uint32_t total_groups) {
         std::vector<Pass> passes;
         auto add = [&](std::uint32_t from, std::uint32_t to, bool primary) {
-            for (std::uint32_t b = from; b < to; b += params_.iccs)
-                passes.push_back({b, std::min(to, b + params_.iccs), primary});
+            for (std::uint32_t b = from; b < to; b += params.iccs)
+                passes.push_back({b, std::min(to, b + params.iccs), primary});
         };
         add(0, primary_groups, true);
         add(primary_groups, total_groups, false);
         for (std::size_t i = 0; i < passes.size(); ++i)
-            passes[i].drain = !params_.overlap_passes || i + 1 == passes.size() || passes[i + 1].primary != passes[i].primary;
+            passes[i].drain = !params.overlap_passes || i + 1 == passes.size() || passes[i + 1].primary != passes[i].primary;
+        return passes;
+    }
+    std::vector<Pass> plan(std::uint32_t primary_groups, std::uint32_t total_groups) {
+        std::vector<Pass> passes = plan(params_, primary_groups, total_groups);
         stats_.passes = passes.size();
         stats_.groups = total_groups;
         stats_.primary_passes = 0;

@@ -292,19 +292,20 @@ void Top::preload(const Host::Pass& p, std::uint8_t buf) {
     parallel_for(n, default_threads(), [&](std::size_t k) { iccs[k].preload(g[k], buf); });
 }
 
-std::vector<std::uint32_t> Top::choose_passes(const std::vector<Host::Pass>& passes) const {
-    if (opt_.shards > 1) {
+std::vector<std::uint32_t> choose_passes(const std::vector<Host::Pass>& passes, const SimConfig& cfg,
+                                         const SimOptions& opt) {
+    if (opt.shards > 1) {
         std::vector<std::uint32_t> mine;
-        for (std::uint32_t i = opt_.shard; i < passes.size(); i += opt_.shards) mine.push_back(i);
+        for (std::uint32_t i = opt.shard; i < passes.size(); i += opt.shards) mine.push_back(i);
         return mine;
     }
     std::vector<std::uint32_t> all(passes.size());
     for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
-    if (cfg_.estimate != Estimate::sample_passes) return all;
+    if (cfg.estimate != Estimate::sample_passes) return all;
     std::vector<std::uint32_t> chosen, shadow;
     for (std::uint32_t i = 0; i < all.size(); ++i) (passes[i].primary ? chosen : shadow).push_back(i);
     const std::size_t ns = shadow.size();
-    const std::size_t n = std::min<std::size_t>(ns, std::max<std::size_t>(2, std::size_t(std::ceil(cfg_.sample_fraction * double(ns)))));
+    const std::size_t n = std::min<std::size_t>(ns, std::max<std::size_t>(2, std::size_t(std::ceil(cfg.sample_fraction * double(ns)))));
     if (n == ns) return all;
     // Stratified sample: one pass in each of n equal strata of the shadow
     // passes, at an offset drawn independently per stratum from the seed (a
@@ -312,7 +313,7 @@ std::vector<std::uint32_t> Top::choose_passes(const std::vector<Host::Pass>& pas
     // pixels a row is 4 passes).
     const double step = double(ns) / double(n);
     for (std::size_t j = 0; j < n; ++j) {
-        std::uint64_t x = (cfg_.sample_seed * 0x9E3779B97F4A7C15ull) ^ (std::uint64_t(j) * 0xD1B54A32D192ED03ull);
+        std::uint64_t x = (cfg.sample_seed * 0x9E3779B97F4A7C15ull) ^ (std::uint64_t(j) * 0xD1B54A32D192ED03ull);
         x ^= x >> 31;
         x *= 0xBF58476D1CE4E5B9ull;
         x ^= x >> 29;
@@ -323,6 +324,16 @@ std::vector<std::uint32_t> Top::choose_passes(const std::vector<Host::Pass>& pas
         chosen.push_back(shadow[std::min(ns - 1, lo + std::min(hi - lo - 1, std::size_t(u * double(hi - lo))))]);
     }
     return chosen;
+}
+
+std::vector<std::uint8_t> simulated_groups(const SimConfig& cfg, const SimOptions& opt, std::uint32_t primary,
+                                           std::uint32_t total) {
+    const std::vector<Host::Pass> passes =
+        Host::plan(Host::Params{cfg.iccs, cfg.pass_overhead_cycles, cfg.overlap_passes}, primary, total);
+    std::vector<std::uint8_t> read(total, 0);
+    for (std::uint32_t i : choose_passes(passes, cfg, opt))
+        for (std::uint32_t g = passes[i].begin; g < passes[i].end; ++g) read[g] = 1;
+    return read;
 }
 
 bool Top::wrong_rti_decided(const Host::Pass& pass, bool chosen) {
@@ -407,7 +418,7 @@ void Top::run_passes() {
     auto make_plan = [&](bool all) {
         planned_all = all;
         passes = host.plan(trace_.primary_groups, all ? std::uint32_t(groups_.total_groups()) : trace_.primary_groups);
-        chosen = choose_passes(passes);
+        chosen = choose_passes(passes, cfg_, opt_);
     };
     make_plan(groups_.total_known());
     bool wrong_rti_pending = cfg_.fault == Fault::wrong_rti && opt_.shards > 1;

@@ -81,6 +81,16 @@ struct SimOptions {
     std::function<void(const class Top&, std::uint64_t cycle, std::int64_t sphere, std::int64_t tri)> on_cycle;
 };
 
+// The passes a run simulates (indices into `passes`, ascending): every one;
+// shard `opt.shard` of `opt.shards`; or, under sim.estimate = sample_passes,
+// every primary pass and a stratified sample of the shadow passes.
+std::vector<std::uint32_t> choose_passes(const std::vector<Host::Pass>& passes, const SimConfig& cfg,
+                                         const SimOptions& opt);
+// Which of a run's `total` groups (`primary` of them primary) the model
+// reads: those of the passes choose_passes() picks (1), not the others (0).
+std::vector<std::uint8_t> simulated_groups(const SimConfig& cfg, const SimOptions& opt, std::uint32_t primary,
+                                           std::uint32_t total);
+
 class Top : public sc_core::sc_module {
 public:
     SC_HAS_PROCESS(Top);
@@ -111,9 +121,7 @@ private:
     // PlaneID and First-Triangle-ID FIFOs, in closed form (bound_engine.cpp).
     std::uint64_t run_pass_bound(const Host::Pass& p);
     void preload(const Host::Pass& p, std::uint8_t buf);
-    // The passes to simulate (all, or a sample under sim.estimate), and the
-    // extrapolated total from a sample.
-    std::vector<std::uint32_t> choose_passes(const std::vector<Host::Pass>& passes) const;
+    // The extrapolated total from a sample of passes.
     // sim.fault = wrong_rti when not every pass is simulated: the fault fires
     // at the first ray-triangle miss of the faulty ICC in the whole run; a
     // run without that pass must not fire it in a later one. Asked of every

@@ -64,6 +64,20 @@ with tempfile.TemporaryDirectory() as tmp:
         ci = 1.96 * shadow_n * math.sqrt(var / n) * math.sqrt(1 - n / shadow_n)
         check(j["total_cycles"] == want, f"{frac}/{seed}: total = primary + N * mean ({want})")
         check(abs(e["ci95_cycles"] - ci) <= 1e-6 * max(1.0, ci), f"{frac}/{seed}: 95 % half-width {ci:.0f}")
+        # The front end tracing only the sampled passes' shadow groups: the
+        # same passes, cycles and estimate; the workload covers the traced groups.
+        k = run(tmp, "--set", "sim.estimate=sample_passes", "--set", f"sim.sample_fraction={frac}",
+                "--set", f"sim.sample_seed={seed}", "--sample-front-end")
+        same = ("total_cycles", "pass_cycles", "estimate", "ray_groups", "passes", "functional_match", "rays_checked",
+                "iccs_detail", "links")
+        check(all(k[x] == j[x] for x in same), f"{frac}/{seed}: --sample-front-end: the same passes and estimate")
+        groups = exact["ray_groups"] - exact["primary_groups"]
+        iccs = len(exact["iccs_detail"])
+        traced = sum(min(iccs, groups - (i - primary_passes) * iccs) for i in idx[primary_passes:])
+        check(k["untraced_groups"] == groups - traced and "untraced_groups" not in j,
+              f"{frac}/{seed}: --sample-front-end leaves {groups - traced} shadow groups untraced")
+        check(k["workload"]["ray_triangle_tests"] < j["workload"]["ray_triangle_tests"] and
+              k["workload_hash"] != j["workload_hash"], f"{frac}/{seed}: its workload covers the traced groups")
         err = (j["total_cycles"] - exact["total_cycles"]) / exact["total_cycles"]
         print(f"     error {100 * err:+.2f} % (exact {exact['total_cycles']}), half-width {100 * ci / exact['total_cycles']:.2f} %")
 print(f"{failures} failed")

@@ -109,6 +109,10 @@ void add_simulate_options(CLI::App* cmd, SimulateArgs& a) {
     cmd->add_flag("--whole-frame", a.whole_frame,
                   "trace the whole frame before the model starts instead of streaming its groups (the same results; "
                   "memory grows with the image)");
+    cmd->add_flag("--sample-front-end", a.sample_front_end,
+                  "with sim.estimate = sample_passes on a scene: the front end traces only the shadow groups of the "
+                  "sampled passes (the same estimate, far sooner on big frames; the workload figures and "
+                  "workload_hash then cover the traced groups, untraced_groups says how many were left)");
     cmd->add_option("--frames", a.frames,
                     "simulate frames of the scene's animation, each in its own process: N (frames 0 to N-1), A:B "
                     "(both included) or all; the JSON gets a frames array and totals, the CSV a row per frame "
@@ -157,6 +161,14 @@ int cmd_simulate(const SimulateArgs& a) {
     const model::SimConfig cfg = model::config_from_params(mp);
     if (!a.frames.empty()) return simulate_frames(a, so);
     if (a.shards || !a.emit_jobs.empty()) return emit_shard_jobs(a, mp, cfg);
+    if (a.sample_front_end) {
+        if (!a.trace.empty()) throw UsageError("--sample-front-end: a trace file holds every group already (give a scene)");
+        if (cfg.estimate != model::Estimate::sample_passes)
+            throw UsageError("--sample-front-end needs sim.estimate = sample_passes");
+        if (a.whole_frame) throw UsageError("--sample-front-end needs a streamed run: not with --whole-frame");
+        if (cfg.memory.system != model::MemorySystem::streaming)
+            throw UsageError("--sample-front-end needs memory.system = streaming (a baseline reads every group)");
+    }
     const bool sharded = !a.shard.empty();
     ShardSpec shard;
     if (sharded) {
@@ -222,6 +234,12 @@ int cmd_simulate(const SimulateArgs& a) {
                 stream_progress = std::make_unique<StreamProgress>(::isatty(2));
                 fo.progress = [p = stream_progress.get()](const char* phase, std::size_t done, std::size_t total) {
                     p->front_end(phase, done, total);
+                };
+            }
+            if (a.sample_front_end) {
+                model::SimOptions plan;
+                fo.groups_read = [cfg, plan](std::size_t primary, std::size_t total) {
+                    return model::simulated_groups(cfg, plan, std::uint32_t(primary), std::uint32_t(total));
                 };
             }
             scene_name = streamed_scene.name;

@@ -51,6 +51,7 @@ struct SimulateArgs {
     unsigned jobs = 0;         // with --frames: frames simulated at once (0: number of cores)
     std::uint32_t window = 4;  // passes the front end may trace ahead of the model
     bool whole_frame = false;  // trace the whole frame first instead of streaming it
+    bool sample_front_end = false;  // sample_passes: trace only the shadow groups of the sampled passes
     bool dump_config = false;
     bool animation_row = false;  // --animation-row: the CSV row a sweep of animated scenes reads
 };

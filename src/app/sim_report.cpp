@@ -165,6 +165,7 @@ std::string config_hash(ParamSet resolved) {
 WorkloadFacts workload_facts(const Trace& t, const WorkloadTally& tally, const model::SimResult& r) {
     WorkloadFacts w;
     w.ray_groups = tally.groups;
+    w.untraced_groups = tally.untraced;
     w.primary_groups = t.primary_groups;
     w.spheres = t.spheres.size();
     w.triangles = t.triangles.size();
@@ -230,6 +231,7 @@ nlohmann::json sim_json(const SimReportInput& in) {
     j["primary_passes"] = r.host.primary_passes;
     j["ray_groups"] = t.ray_groups;
     j["primary_groups"] = t.primary_groups;
+    if (t.untraced_groups) j["untraced_groups"] = t.untraced_groups;
     j["spheres"] = t.spheres;
     j["triangles"] = t.triangles;
     j["group_size"] = t.group_size;

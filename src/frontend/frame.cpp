@@ -208,6 +208,8 @@ Frame render_frame(const Scene& scene, const FrameOptions& opt) {
         opt.before_shadow(f, lit_pixels.size(), sample);
     }
     if (stream) stream->set_total(f.primary.size() + lit_pixels.size());
+    std::vector<std::uint8_t> read;
+    if (stream && opt.groups_read) read = opt.groups_read(f.primary.size(), f.primary.size() + lit_pixels.size());
     const bool keep_shadow = opt.record && !stream;
     std::vector<RayGroup> shadow(keep_shadow ? lit_pixels.size() : 0);
     std::vector<GroupResult> shadow_res(keep_shadow ? lit_pixels.size() : 0);
@@ -217,6 +219,13 @@ Frame render_frame(const Scene& scene, const FrameOptions& opt) {
     GroupProgress shadow_progress(opt, "shadow", lit_pixels.size());
     parallel_for(lit_pixels.size(), threads, [&](std::size_t i) {
         if (stream) stream->acquire(f.primary.size() + i);
+        if (!read.empty() && !read.at(f.primary.size() + i)) {
+            TraceGroup placeholder;
+            placeholder.kind = GroupKind::shadow;
+            stream->put(f.primary.size() + i, std::move(placeholder));
+            shadow_progress.one_done();
+            return;
+        }
         const std::size_t px = lit_pixels[i];
         const int x = int(px % std::size_t(scene.width)), y = int(px / std::size_t(scene.width));
         RayGroup g = shadow_group(scene, shadow_origin(scene, f.spheres, f.pixel_ray[px], f.pixel_hit[px]), x, y);

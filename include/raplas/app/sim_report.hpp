@@ -34,6 +34,7 @@ std::string config_hash(ParamSet resolved);
 // pixel of the group of the result's first mismatching ray.
 struct WorkloadFacts {
     std::uint64_t ray_groups = 0, primary_groups = 0, spheres = 0, triangles = 0;
+    std::uint64_t untraced_groups = 0;  // --sample-front-end: groups the front end left out
     std::uint32_t group_size = 0, shadow_group_size = 0;
     GroupCounts counts;
     bool mismatch_primary = true;

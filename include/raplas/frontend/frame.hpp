@@ -69,6 +69,11 @@ struct FrameOptions {
     // groups are made, then every group in issue order, each traced only
     // once the stream has room for it (raplas/frontend/group_source.hpp).
     GroupStream* stream = nullptr;
+    // With `stream`: which groups the stream's reader will read, asked once
+    // the group count is known, with (primary groups, all groups); the
+    // shadow groups it marks 0 are not traced but handed over as placeholders
+    // (TraceGroup::n = 0), and their pixels stay unshaded. Empty: all.
+    std::function<std::vector<std::uint8_t>(std::size_t primary, std::size_t total)> groups_read;
     // Frames of one sequence: the spheres of the previous frame, taken when
     // they are provably this frame's too (SphereCache).
     SphereCache* sphere_cache = nullptr;

@@ -78,6 +78,10 @@ struct WorkloadTally {
     WorkloadTally(const Trace& header, bool pairless) : hasher(header, pairless) {}
     void add(const TraceGroup& g) {
         ++groups;
+        if (g.n == 0) {  // not traced (FrameOptions::groups_read)
+            ++untraced;
+            return;
+        }
         counts += g.counts;
         hasher.add(g);
     }
@@ -86,6 +90,7 @@ struct WorkloadTally {
         return [this](std::size_t, const TraceGroup& g) { add(g); };
     }
     std::uint64_t groups = 0;
+    std::uint64_t untraced = 0;  // placeholders: in `groups`, not in `counts` or the hash
     GroupCounts counts;
     WorkloadHasher hasher;
 };
