@@ -43,6 +43,11 @@ using bench::since;
 struct Options {
     std::vector<std::string> scenes{"bunny", "conference"};
     int size = 64;
+    int width = 0, height = 0;  // 0: --size
+    // Embree alone on the frame's rays: the front end traces the primary
+    // rays only (for the shadow rays' origins); shadow rays are made group by
+    // group, never all held (big frames).
+    bool embree_only = false;
     unsigned threads = 0;
     int repeat = 3;
     int frontend_repeat = 1;
@@ -126,7 +131,7 @@ private:
 // threads (in chunks), each the best of `repeat` runs; the two are
 // interleaved so that a passing load affects both alike.
 template <class F>
-std::pair<double, double> best_times(std::size_t n, unsigned threads, int repeat, F&& body) {
+std::pair<double, double> best_times(std::size_t n, unsigned threads, int repeat, F&& body, bool single = true) {
     constexpr std::size_t kChunk = 256;
     const std::size_t chunks = (n + kChunk - 1) / kChunk;
     auto run = [&](unsigned t) {
@@ -139,7 +144,7 @@ std::pair<double, double> best_times(std::size_t n, unsigned threads, int repeat
     };
     double one = std::numeric_limits<double>::infinity(), many = one;
     for (int k = 0; k < std::max(1, repeat); ++k) {
-        one = std::min(one, run(1));
+        if (single) one = std::min(one, run(1));
         many = std::min(many, run(threads));
     }
     return {one, many};
@@ -157,6 +162,8 @@ struct Result {
     PhaseTimes fe;          // front end, `threads` threads
     PhaseTimes fe_single;   // front end, one thread (when asked)
     bool has_single = false;
+    bool embree_only = false;  // front end: primary rays only
+    double em_shadow_setup_n = 0;  // embree_only: making the shadow rays alone, `threads` threads
     std::size_t primary_groups = 0, primary_rays = 0, shadow_groups = 0, shadow_rays = 0;
     std::uint64_t fe_plane_tests = 0, fe_rt_tests = 0;
     double shadow_setup_s = 0;
@@ -170,8 +177,8 @@ struct Result {
 double total(const PhaseTimes& t) { return t.spheres_s + t.primary_s + t.shadow_s + t.shade_s; }
 
 Scene load_bench_scene(const KnownScene& k, const Options& o, std::string& source) {
-    std::vector<std::string> overrides = {"image.width=" + std::to_string(o.size),
-                                          "image.height=" + std::to_string(o.size), "groups.size=16",
+    std::vector<std::string> overrides = {"image.width=" + std::to_string(o.width ? o.width : o.size),
+                                          "image.height=" + std::to_string(o.height ? o.height : o.size), "groups.size=16",
                                           "groups.shadow_size=16"};
     const fs::path file = fs::path(o.scene_dir) / (k.name + ".toml");
     if (fs::is_regular_file(file)) {
@@ -188,6 +195,77 @@ Scene load_bench_scene(const KnownScene& k, const Options& o, std::string& sourc
     for (const auto& s : k.fallback) p.set(s);
     for (const auto& s : overrides) p.set(s);
     return scene_from_params(p, mesh);
+}
+
+// --embree-only: the front end's primary rays and the shadow groups they
+// give, traced by Embree alone (multi-threaded runs only). A shadow group's
+// rays are made where they are traced; the time to make them alone is
+// measured the same way and taken off.
+Result embree_only(const Scene& scene, FrameOptions fo, Result r, const Options& o) {
+    struct PrimaryDone {};
+    Frame f;
+    fo.before_shadow = [&f](const Frame& so_far, std::size_t, const ShadowSample&) {
+        f = so_far;
+        throw PrimaryDone{};
+    };
+    std::fprintf(stderr, "%s: front end, primary rays, %u threads...\n", r.name.c_str(), r.threads);
+    try {
+        render_frame(scene, fo);
+        throw std::runtime_error("the front end did not stop before its shadow rays");
+    } catch (const PrimaryDone&) {
+    }
+    r.embree_only = true;
+    r.fe.spheres_s = f.times.spheres_s;
+    r.fe.primary_s = f.times.primary_s;
+    r.spheres = f.spheres.sphere_count();
+    r.primary_groups = f.primary.size();
+    r.primary_rays = f.pixel_ray.size();
+    std::vector<std::size_t> lit;
+    for (std::size_t px = 0; px < f.pixel_hit.size(); ++px)  // the pixels render_frame gives a shadow group
+        if (f.pixel_hit[px].tri >= 0 &&
+            !(scene.skip_facing_away && faces_away_from_light(scene, f.spheres, f.pixel_ray[px], f.pixel_hit[px])))
+            lit.push_back(px);
+    const std::size_t per_group = std::size_t(scene.shadow_group_size) * std::size_t(scene.shadow_group_size);
+    r.shadow_groups = lit.size();
+    r.shadow_rays = lit.size() * per_group;
+
+    std::fprintf(stderr, "%s: Embree...\n", r.name.c_str());
+    r.em_build_n = std::numeric_limits<double>::infinity();
+    for (int i = 1; i < o.repeat; ++i) r.em_build_n = std::min(r.em_build_n, EmbreeScene(scene.mesh, r.threads).build_s());
+    const EmbreeScene em(scene.mesh, r.threads);
+    r.em_build_n = std::min(r.em_build_n, em.build_s());
+    std::vector<float> prim_t(f.pixel_ray.size());
+    auto prim = [&](std::size_t i) { prim_t[i] = em.intersect(f.pixel_ray[i]); };
+    r.em_primary_n = best_times(prim_t.size(), r.threads, o.repeat, prim, false).second;
+    const bench::PrimaryMismatch pm = bench::compare_primary(f, prim_t);
+    r.primary_hit_mismatch = pm.hit;
+    r.primary_t_mismatch = pm.distance;
+
+    std::vector<std::uint32_t> occluded(lit.size()), made(lit.size());
+    auto group = [&](std::size_t i) {
+        const std::size_t px = lit[i];
+        const int x = int(px % std::size_t(scene.width)), y = int(px / std::size_t(scene.width));
+        return shadow_group(scene, shadow_origin(scene, f.spheres, f.pixel_ray[px], f.pixel_hit[px]), x, y);
+    };
+    auto make_only = [&](std::size_t i) {
+        const RayGroup g = group(i);
+        std::uint32_t sum = 0;
+        for (std::uint32_t v = 0; v < g.n; ++v)
+            for (std::uint32_t h = 0; h < g.n; ++h) sum += group_ray(g, h, v).d.x > 0;
+        made[i] = sum;
+    };
+    auto trace = [&](std::size_t i) {
+        const RayGroup g = group(i);
+        std::uint32_t n = 0;
+        for (std::uint32_t v = 0; v < g.n; ++v)
+            for (std::uint32_t h = 0; h < g.n; ++h) n += em.occluded(group_ray(g, h, v));
+        occluded[i] = n;
+    };
+    r.em_shadow_setup_n = best_times(lit.size(), r.threads, o.repeat, make_only, false).second;
+    const double with_setup = best_times(lit.size(), r.threads, o.repeat, trace, false).second;
+    r.em_shadow_n = std::max(0.0, with_setup - r.em_shadow_setup_n);
+    for (std::uint32_t c : occluded) r.em_occluded += c;
+    return r;
 }
 
 Result run_scene(const KnownScene& k, const Options& o, unsigned threads) {
@@ -209,6 +287,7 @@ Result run_scene(const KnownScene& k, const Options& o, unsigned threads) {
 
     FrameOptions fo;
     fo.threads = threads;
+    if (o.embree_only) return embree_only(scene, fo, r, o);
     std::fprintf(stderr, "%s: front end, %u threads...\n", k.name.c_str(), threads);
     const Frame f = render_frame(scene, fo);
     r.fe = f.times;
@@ -295,6 +374,22 @@ void print_markdown(const std::vector<Result>& rs, const std::string& command, c
     for (const Result& r : rs) {
         const unsigned T = r.threads;
         std::cout << "### " << r.name << "\n\n";
+        if (r.embree_only) {
+            std::cout << r.source << ": " << fmt_count(r.triangles) << " triangles, " << r.width << "x" << r.height
+                      << " image, " << fmt_count(r.primary_rays) << " primary rays, " << fmt_count(r.shadow_groups)
+                      << " shadow groups of " << r.shadow_group_size << "x" << r.shadow_group_size << " ("
+                      << fmt_count(r.shadow_rays) << " rays), " << T << " threads, Embree best of " << r.embree_repeat
+                      << " run(s).\n\n| Embree 3 | time |\n|---|---|\n| BVH build | " << fmt_time(r.em_build_n)
+                      << " |\n| primary rays | " << fmt_time(r.em_primary_n) << " |\n| shadow rays (occluded?) | "
+                      << fmt_time(r.em_shadow_n) << " |\n| **rays** | " << fmt_time(r.em_primary_n + r.em_shadow_n)
+                      << " |\n| Mrays/s | " << fmt_rate(double(r.primary_rays + r.shadow_rays), r.em_primary_n + r.em_shadow_n)
+                      << " |\n\nMaking the shadow rays alone took " << fmt_time(r.em_shadow_setup_n)
+                      << " (taken off). RAPLAS front end, primary rays only: spheres " << fmt_time(r.fe.spheres_s)
+                      << ", primary " << fmt_time(r.fe.primary_s) << ". Primary hit/miss differs on "
+                      << r.primary_hit_mismatch << " rays; Embree finds " << fmt_count(r.em_occluded)
+                      << " shadow rays occluded.\n\n";
+            continue;
+        }
         std::cout << r.source << ": " << fmt_count(r.triangles) << " triangles, " << fmt_count(r.spheres)
                   << " spheres (K = " << r.tris_per_sphere << "), " << r.width << "x" << r.height << " image, "
                   << r.group_size << "x" << r.group_size << " primary groups (" << r.primary_groups << "), "
@@ -362,13 +457,14 @@ nlohmann::json to_json(const std::vector<Result>& rs, const std::string& command
         s["primary_rays"] = r.primary_rays;
         s["shadow_groups"] = r.shadow_groups;
         s["shadow_rays"] = r.shadow_rays;
+        s["embree_only"] = r.embree_only;
         s["frontend"] = phases(r.fe);
         if (r.has_single) s["frontend_1_thread"] = phases(r.fe_single);
         s["frontend_work"] = {{"plane_sphere_tests", r.fe_plane_tests}, {"ray_triangle_tests", r.fe_rt_tests}};
         s["embree"] = {{"build_1_thread_s", r.em_build_1}, {"build_s", r.em_build_n},
                        {"primary_1_thread_s", r.em_primary_1}, {"primary_s", r.em_primary_n},
                        {"shadow_1_thread_s", r.em_shadow_1}, {"shadow_s", r.em_shadow_n},
-                       {"shadow_ray_setup_s", r.shadow_setup_s}};
+                       {"shadow_ray_setup_s", r.embree_only ? r.em_shadow_setup_n : r.shadow_setup_s}};
         s["agreement"] = {{"primary_hit_mismatch", r.primary_hit_mismatch},
                           {"primary_t_mismatch", r.primary_t_mismatch},
                           {"frontend_occluded_shadow_rays", r.fe_occluded},
@@ -387,6 +483,11 @@ int main(int argc, char** argv) {
     CLI::App app{"RAPLAS front end vs Embree 3: wall time per phase on the same rays"};
     app.add_option("--scene", o.scenes, "scenes to run: bunny, sportscar, conference (repeatable)")->capture_default_str();
     app.add_option("--size", o.size, "image width and height")->capture_default_str()->check(CLI::Range(1, 4096));
+    app.add_option("--width", o.width, "image width (default: --size)")->check(CLI::Range(1, 8192));
+    app.add_option("--height", o.height, "image height (default: --size)")->check(CLI::Range(1, 8192));
+    app.add_flag("--embree-only", o.embree_only,
+                 "Embree alone on the frame's primary and shadow rays (the front end traces the primary rays only; "
+                 "for big frames)");
     app.add_option("--threads", o.threads, "threads for the front end and the multi-threaded Embree runs (0: all)")
         ->capture_default_str();
     app.add_option("--repeat", o.repeat, "Embree builds and traces: best of this many runs")->capture_default_str()->check(CLI::Range(1, 100));
