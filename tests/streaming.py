@@ -5,8 +5,13 @@ it is traced, a window of passes in memory) and the whole-frame one
 over the small scenes, both engines, the estimates, both functional modes,
 both Triangle Selector readings, overlapped passes, shards, 1 to 3 front-end
 threads and the smallest window (2 passes). A point also checks that the
-streamed run's JSON is the same with another thread count and window."""
+streamed run's JSON is the same with another thread count and window.
+A trace (`simulate --trace`) is read block by block the same way: read
+whole, streamed from the file and from a pipe, it gives the same JSON; a
+block damaged late in the stream, or a pipe that ends early, stops the run
+with one line and exit 2 after the passes before it, and writes no JSON."""
 import json
+import struct
 import os
 import random
 import subprocess
@@ -78,5 +83,60 @@ with tempfile.TemporaryDirectory() as tmp:
                     print(f"FAIL {name} {' '.join(args)} ({label}):")
                     for line in d[:10]:
                         print("  " + line)
+    # Traces, read whole, streamed from the file and from a pipe.
+    for name, scene_args in small_scenes(root):
+        trace = os.path.join(tmp, f"{name}.trace")
+        subprocess.run([raplas, "trace", "-q", "-o", trace] + scene_args, check=True)
+        data = open(trace, "rb").read()
+        for sets in (["sim.mode=event"], ["sim.mode=cycle", "sim.functional=trace", "icc.triangle_select=both"],
+                     ["sim.estimate=fifo_bound"]):
+            args = ["--trace", trace, "--config", "paper", "--iccs", str(rng.choice([1, 3, 16])), "--fifo",
+                    str(rng.choice([3, 1000]))]
+            for x in sets:
+                args += ["--set", x]
+            results = {}
+            for label, opts, feed in (("whole", ["--whole-frame"], None), ("streamed", ["--window", "2"], None),
+                                      ("piped", ["--window", "3"], data)):
+                path = os.path.join(tmp, f"trace-{label}.json")
+                if os.path.exists(path):
+                    os.remove(path)
+                a = list(args)
+                if feed is not None:
+                    a[1] = "/dev/stdin"
+                p = subprocess.run([raplas, "simulate", "-q", "--json", path] + a + opts, input=feed,
+                                   capture_output=True)
+                j = json.load(open(path)) if p.returncode == 0 else None
+                if j:
+                    j.pop("wall", None)
+                results[label] = j
+            points += 1
+            for label in ("streamed", "piped"):
+                d = json_diff(results["whole"], results[label], WALL) if results["whole"] and results[label] else ["no result"]
+                if d:
+                    failures += 1
+                    print(f"FAIL trace of {name} {' '.join(sets)} ({label}):")
+                    for line in d[:10]:
+                        print("  " + line)
+        # The last GROUPS block damaged, and the stream cut before END: one line, exit 2, no JSON.
+        blocks, at = [], 32
+        while at + 20 <= len(data):
+            kind, size = struct.unpack_from("<IQ", data, at)
+            blocks.append((kind, at + 20, size))
+            at += 20 + size
+        kind, start, size = [b for b in blocks if b[0] == 2][-1]
+        bad = bytearray(data)
+        bad[start + size // 2] ^= 1
+        for label, feed, want in (("damaged", bytes(bad), "checksum mismatch in GROUPS block"),
+                                  ("cut", data[:start - 20], "without its END block")):
+            path = os.path.join(tmp, f"{label}.json")
+            p = subprocess.run([raplas, "simulate", "-q", "--json", path, "--trace", "/dev/stdin", "--iccs", "2"],
+                               input=feed, capture_output=True, text=False)
+            err = p.stderr.decode()
+            ok = p.returncode == 2 and want in err and "stopped after" in err and err.count("\n") == 1 and \
+                not os.path.exists(path)
+            points += 1
+            if not ok:
+                failures += 1
+                print(f"FAIL trace of {name}, {label}: exit {p.returncode}, {err!r}")
     print(f"{points} points, {failures} failures")
 finish(failures)

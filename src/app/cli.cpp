@@ -2,6 +2,7 @@
 
 #include "commands.hpp"
 #include "frames.hpp"
+#include "front_end_thread.hpp"
 #include "config.hpp"
 #include "memory_checks.hpp"
 #include "shard.hpp"
@@ -15,6 +16,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <fstream>
 #include <functional>
 #include <iostream>
 #include <memory>
@@ -137,6 +140,9 @@ int cmd_render(const SceneOptions& so_in, std::string out_png, bool out_given, c
     return 0;
 }
 
+// Groups the front end of `raplas trace` may trace ahead of the writer.
+constexpr std::uint32_t kTraceWindowGroups = 256;
+
 int cmd_trace(const SceneOptions& so, const std::string& out, const std::string& json, const std::string& select) {
     NumFormat fmt = so.parsed_format();
     Scene scene;
@@ -148,16 +154,70 @@ int cmd_trace(const SceneOptions& so, const std::string& out, const std::string&
     fo.cull = !so.no_cull;
     fo.record = true;
     fo.pairless = select == "any";
-    check_front_end(FrontEndUse::trace_file, scene, fo);
+    // The front end hands each group to this thread, which writes it into
+    // its block as it comes (docs/TRACE.md): only a window of groups and one
+    // block are held, into a temporary file renamed at the END block.
+    GroupStream stream(kTraceWindowGroups);
+    fo.stream = &stream;
+    check_front_end(FrontEndUse::trace_streamed, scene, fo, nullptr, kTraceWindowGroups);
     PhaseProgress progress(so.show_progress(), ::isatty(2));
     fo.progress = std::ref(progress);
-    Frame frame = render_frame(scene, fo);
-    progress.finish();
+    Frame frame;
+    FrontEndThread frontend;
+    frontend.start(stream, [&frame, &scene, fo] { frame = render_frame(scene, fo); });
+    struct Stopped {};  // the front end stopped: it says why
+    std::uint64_t bytes = 0, groups = 0;
     auto t0 = std::chrono::steady_clock::now();
-    Trace t = make_trace(scene, frame, fmt, fo.pairless);
-    std::string bytes = serialize_trace(t);
-    write_file_atomically(out, bytes);
-    rep.write_s = since(t0);
+    double wait_s = 0;
+    try {
+        write_atomically(out, [&](const std::string& tmp) {
+            std::ofstream f(tmp, std::ios::binary);
+            if (!f) throw InputError(out + ": cannot write the trace: " + std::strerror(errno));
+            TraceWriter w([&](const char* p, std::size_t n) {
+                if (!f.write(p, std::streamsize(n))) throw InputError(out + ": cannot write the trace: " + std::strerror(errno));
+            });
+            auto wait = [&](auto&& ready) {
+                const auto w0 = std::chrono::steady_clock::now();
+                const bool ok = ready();
+                wait_s += since(w0);
+                if (!ok) throw Stopped{};
+            };
+            const Trace* header = nullptr;
+            wait([&] {
+                try {
+                    header = &stream.header();
+                    return true;
+                } catch (...) {
+                    return false;
+                }
+            });
+            w.header(*header);
+            const std::uint64_t primary = header->primary_groups;
+            for (std::uint64_t i = 0;; ++i) {
+                if (i == primary) {
+                    wait([&] { return stream.wait_total(); });
+                    w.total(stream.total_groups());
+                }
+                if (i >= primary && i == stream.total_groups()) break;
+                wait([&] { return stream.wait_for(std::size_t(i + 1)); });
+                w.group(stream.group(std::size_t(i)));
+                stream.release(std::size_t(i + 1));
+            }
+            w.finish();
+            f.close();
+            if (!f) throw InputError(out + ": cannot write the trace: " + std::strerror(errno));
+            bytes = w.bytes();
+            groups = w.groups();
+        });
+    } catch (const Stopped&) {
+    }
+    frontend.join();
+    progress.finish();
+    if (!frontend.error().empty()) {
+        if (frontend.input_error()) throw InputError(frontend.error());
+        throw std::runtime_error(frontend.error());
+    }
+    rep.write_s = std::max(0.0, since(t0) - wait_s);  // writing, not waiting for the front end
     rep.scene = &scene;
     rep.frame = &frame;
     rep.format = fmt;
@@ -165,7 +225,7 @@ int cmd_trace(const SceneOptions& so, const std::string& out, const std::string&
     if (!json.empty()) write_file_atomically(json, render_json(rep));
     if (!so.quiet) {
         std::cout << render_summary(rep);
-        std::cout << "  wrote " << out << " (" << bytes.size() << " bytes, " << t.groups.size() << " ray groups)\n";
+        std::cout << "  wrote " << out << " (" << bytes << " bytes, " << groups << " ray groups)\n";
     }
     return 0;
 }

@@ -12,6 +12,7 @@
 #include "baseline_memory.hpp"
 #include "commands.hpp"
 #include "frames.hpp"
+#include "front_end_thread.hpp"
 #include "config.hpp"
 #include "memory_checks.hpp"
 #include "raplas/app/progress.hpp"
@@ -25,58 +26,6 @@
 #include "raplas/util/files.hpp"
 
 namespace raplas {
-
-namespace {
-
-// The front end of a streamed simulation, on its own thread (which starts
-// the worker threads): its failure is kept as a message for the command and
-// handed to the stream, whose waits then stop. Joined on destruction, the
-// stream cancelled first so that no worker waits for room.
-class FrontEndThread {
-public:
-    FrontEndThread() = default;
-    FrontEndThread(const FrontEndThread&) = delete;
-    FrontEndThread& operator=(const FrontEndThread&) = delete;
-    ~FrontEndThread() {
-        if (!thread_.joinable()) return;
-        stream_->cancel();
-        thread_.join();
-    }
-    void start(GroupStream& stream, std::function<void()> body) {
-        stream_ = &stream;
-        thread_ = std::thread([this, body = std::move(body)] {
-            try {
-                body();
-            } catch (const GroupStream::Cancelled&) {
-                // the model stopped first and says why
-            } catch (const InputError& e) {
-                stop(e.what(), true);
-            } catch (const std::bad_alloc&) {
-                stop("out of memory", false);
-            } catch (const std::exception& e) {
-                stop(e.what(), false);
-            }
-        });
-    }
-    void join() {
-        if (thread_.joinable()) thread_.join();
-    }
-    const std::string& error() const { return error_; }
-    bool input_error() const { return input_; }
-
-private:
-    void stop(const std::string& what, bool input) {
-        error_ = what;
-        input_ = input;
-        stream_->fail(std::current_exception(), "front end: " + what);
-    }
-    GroupStream* stream_ = nullptr;
-    std::thread thread_;
-    std::string error_;
-    bool input_ = false;
-};
-
-}  // namespace
 
 std::string resolve_config(const std::string& c) {
     return find_named_file(c, {"config", "configs", "machine configs", "raplas simulate --dump-config"});
@@ -191,17 +140,46 @@ int cmd_simulate(const SimulateArgs& a) {
     ProgressLine model_progress(so.show_progress(), ::isatty(2));
     double frontend_s = 0;
     nlohmann::json animation;  // with --frame: the animation's frame count and rate
+    std::shared_ptr<TraceReader> trace_reader;  // a trace read as a stream (outlives its thread)
     if (!a.trace.empty()) {
         if (so.frame >= 0) throw UsageError("--frame F draws a frame of a scene; a trace holds one frame already");
         if (!so.scene.empty() || !so.mesh.empty()) throw UsageError("give either --trace or --scene/--mesh, not both");
+        // The streaming machine reads the trace block by block on its own
+        // thread, a window of passes ahead of the model; the baselines need
+        // it whole.
+        const bool streamed = !a.whole_frame && cfg.memory.system == model::MemorySystem::streaming;
         struct stat st{};
-        if (::stat(a.trace.c_str(), &st) == 0 && S_ISREG(st.st_mode)) check_trace_read(a.trace, std::uint64_t(st.st_size));
-        trace = read_trace(a.trace);
+        if (!streamed && ::stat(a.trace.c_str(), &st) == 0 && S_ISREG(st.st_mode))
+            check_trace_read(a.trace, std::uint64_t(st.st_size));
+        if (streamed) {
+            trace_reader = std::make_shared<TraceReader>(a.trace);  // the file header and the HEAD block
+            trace = trace_reader->header();
+        } else {
+            trace = read_trace(a.trace);
+        }
         model::check_trace_reading(trace, cfg, a.trace);
         scene_name = trace.scene_name;
         if (cfg.functional == model::FunctionalMode::compute && !(trace.format == cfg.format))
             throw InputError(a.trace + ": trace was made in " + trace.format.name() + " but numerics.format is " +
                              cfg.format.name());
+        if (streamed) {
+            check_trace_streamed(cfg, a.trace, trace, a.window);
+            auto owned = std::make_unique<GroupStream>(std::size_t(a.window) * cfg.iccs);
+            stream = owned.get();
+            source = std::move(owned);
+            stream->set_header(std::move(trace));
+            frontend.start(*stream, [reader = trace_reader, stream, t0, &frontend_s] {
+                TraceGroup g;
+                bool totalled = false;
+                for (std::size_t i = 0; reader->next(g); ++i) {
+                    if (!totalled && reader->total_known()) stream->set_total(reader->total()), totalled = true;
+                    stream->acquire(i);
+                    stream->put(i, std::move(g));
+                }
+                if (!totalled) stream->set_total(reader->total());
+                frontend_s = std::chrono::duration<double>(clock::now() - t0).count();
+            });
+        }
     } else {
         Scene scene;
         double load_s = 0;
@@ -290,7 +268,12 @@ int cmd_simulate(const SimulateArgs& a) {
         if (!result.error.empty()) stream->cancel();
         frontend.join();
         if (!frontend.error().empty()) {
-            std::cerr << "raplas: " << (frontend.input_error() ? "error: " : "internal error: ") << frontend.error() << "\n";
+            // A trace damaged late in the stream: what was done before it.
+            const std::string done = trace_reader ? " (stopped after " + std::to_string(trace_reader->groups_read()) +
+                                                        " ray groups were read; no result written)"
+                                                  : "";
+            std::cerr << "raplas: " << (frontend.input_error() ? "error: " : "internal error: ") << frontend.error()
+                      << done << "\n";
             return frontend.input_error() ? kExitInputError : kExitInternalError;
         }
     }

@@ -15,7 +15,9 @@ namespace raplas {
 
 // simulate_streamed: `raplas simulate` with the groups streamed to the model
 // (FrameOptions::stream), which runs alongside.
-enum class FrontEndUse { render, trace_file, simulate, simulate_streamed };
+// trace_streamed: `raplas trace` writing each group as it is traced, with
+// a window of `window_passes` groups (no model).
+enum class FrontEndUse { render, trace_file, simulate, simulate_streamed, trace_streamed };
 
 // Before render_frame; installs in `fo` the check before the shadow rays,
 // which also counts the trace (and its file buffer) the command will build.
@@ -30,6 +32,12 @@ void check_model_up_front(const model::SimConfig& c, const Scene& s);
 
 // Before reading a trace file of `bytes` bytes.
 void check_trace_read(const std::string& path, std::uint64_t bytes);
+
+// `raplas simulate --trace` read as a stream: the trace's header, the model
+// and a window of `window_passes` passes of groups (their sphere hits from
+// the file's blocks when it is a regular file, else none known).
+void check_trace_streamed(const model::SimConfig& c, const std::string& path, const Trace& header,
+                          std::uint32_t window_passes);
 
 // Before the timing model, with the trace in memory.
 void check_model(const model::SimConfig& c, const Trace& t);

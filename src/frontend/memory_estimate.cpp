@@ -138,44 +138,67 @@ TraceShape trace_file_shape(const std::string& path) {
     };
     char magic[8];
     std::uint32_t version = 0, header = 0, dims[5] = {}, pairless = 0;
-    std::uint64_t payload = 0, sum = 0, spheres = 0, tris = 0, groups = 0;
+    std::uint64_t reserved[2] = {}, spheres = 0, tris = 0, groups = 0, read = 0;
     std::uint32_t primary = 0;
+    bool headed = false, totalled = false;
     TraceShape t;
     if (!in || size < 32 || !in.read(magic, 8) || std::memcmp(magic, "RAPLTRC\n", 8) != 0 || !get(version) ||
-        version != kTraceVersion || !get(header) || !get(payload) || !get(sum) || !skip_str() || !skip_str())
+        version != kTraceVersion || !get(header) || !get(reserved[0]) || !get(reserved[1]))
         return t;
-    for (auto& d : dims)
-        if (!get(d)) return t;
-    if (!get(pairless) || !get(spheres) || spheres > std::uint64_t(size) / kTraceSphereBytes ||
-        !skip(spheres * kTraceSphereBytes) || !get(tris) || tris > std::uint64_t(size) / kTraceTriangleBytes ||
-        !skip(tris * kTraceTriangleBytes) || !get(primary) || !get(groups) || groups < primary ||
-        groups > std::uint64_t(size))
-        return t;
-    const std::uint32_t n = dims[2], ns = dims[3];  // width, height, group size, shadow group size, K
-    if (n < 1 || n > 64 || ns < 1 || ns > 64) return t;
     TraceShape g;
+    // Block by block (docs/TRACE.md): the HEAD's sizes, each group's counts
+    // (its records skipped), the TOTAL's group count.
+    for (;;) {
+        std::uint32_t kind = 0;
+        std::uint64_t bytes = 0, sum = 0;
+        if (!get(kind) || !get(bytes) || !get(sum) || bytes > std::uint64_t(size)) return t;
+        const std::streamoff end = in.tellg() + std::streamoff(bytes);
+        if (kind == std::uint32_t(TraceBlock::head)) {
+            if (!skip_str() || !skip_str()) return t;
+            for (auto& d : dims)
+                if (!get(d)) return t;
+            if (!get(pairless) || !get(spheres) || spheres > std::uint64_t(size) / kTraceSphereBytes ||
+                !skip(spheres * kTraceSphereBytes) || !get(tris) || tris > std::uint64_t(size) / kTraceTriangleBytes ||
+                !skip(tris * kTraceTriangleBytes) || !get(primary))
+                return t;
+            headed = true;
+        } else if (kind == std::uint32_t(TraceBlock::groups) && headed) {
+            std::uint32_t count = 0;
+            if (!get(count)) return t;
+            for (std::uint32_t i = 0; i < count; ++i, ++read) {
+                std::uint8_t gkind = 0;
+                std::uint32_t gn = 0;
+                std::uint64_t counts[4] = {}, nh = 0, nr = 0, rb = 0;
+                if (!get(gkind) || !get(gn) || gn < 1 || gn > 64 ||
+                    !skip(4 + 4 + 12 + 4 + 16 + 32 * std::uint64_t(gn) + 12 * std::uint64_t(gn) * gn))
+                    return t;
+                for (auto& c : counts)
+                    if (!get(c)) return t;
+                if (!get(nh) || nh > std::uint64_t(size) || !skip(nh * (4 + 2 * ((gn + 7) / 8)))) return t;
+                if (pairless && (!get(nr) || !get(rb) || !skip(rb))) return t;
+                if (!skip(12 * std::uint64_t(gn) * gn)) return t;
+                (read < primary ? g.primary_sphere_hits : g.shadow_sphere_hits) += double(nh);
+                g.pairless_runs += double(nr);
+                g.pairless_spheres += double(counts[3]);
+            }
+        } else if (kind == std::uint32_t(TraceBlock::total) && headed) {
+            if (!get(groups) || groups < primary || groups > std::uint64_t(size)) return t;
+            totalled = true;
+        } else if (kind == std::uint32_t(TraceBlock::end) && totalled) {
+            break;
+        } else {
+            return t;
+        }
+        if (!in.seekg(end)) return t;
+    }
+    const std::uint32_t n = dims[2], ns = dims[3];  // width, height, group size, shadow group size, K
+    if (n < 1 || n > 64 || ns < 1 || ns > 64 || read != groups) return t;
     g.spheres = spheres;
     g.triangles = tris;
     g.primary_groups = primary;
     g.shadow_groups = groups - primary;
     g.group_size = n;
     g.shadow_group_size = ns;
-    // Each group's counts (docs/TRACE.md), skipping its records.
-    for (std::uint64_t i = 0; i < groups; ++i) {
-        std::uint8_t kind = 0;
-        std::uint32_t gn = 0;
-        std::uint64_t counts[4] = {}, nh = 0, nr = 0, rb = 0;
-        if (!get(kind) || !get(gn) || gn < 1 || gn > 64 || !skip(4 + 4 + 12 + 4 + 16 + 32 * std::uint64_t(gn) + 12 * std::uint64_t(gn) * gn))
-            return t;
-        for (auto& c : counts)
-            if (!get(c)) return t;
-        if (!get(nh) || nh > std::uint64_t(size) || !skip(nh * (4 + 2 * ((gn + 7) / 8)))) return t;
-        if (pairless && (!get(nr) || !get(rb) || !skip(rb))) return t;
-        if (!skip(12 * std::uint64_t(gn) * gn)) return t;
-        (i < primary ? g.primary_sphere_hits : g.shadow_sphere_hits) += double(nh);
-        g.pairless_runs += double(nr);
-        g.pairless_spheres += double(counts[3]);
-    }
     return g;
 }
 

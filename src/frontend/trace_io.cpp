@@ -1,7 +1,10 @@
 #include "raplas/frontend/trace_io.hpp"
 
+#include <fcntl.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -18,7 +21,7 @@ namespace raplas {
 namespace {
 
 constexpr char kMagic[8] = {'R', 'A', 'P', 'L', 'T', 'R', 'C', '\n'};
-constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8 + 8;
+constexpr std::size_t kHeaderBytes = kTraceFileHeaderBytes;
 // Sanity limits that keep a corrupt header from asking for absurd memory.
 constexpr std::uint64_t kMaxCount = std::uint64_t(1) << 32;
 
@@ -61,12 +64,14 @@ struct Writer {
     }
 };
 
+// Reads one block's payload; `base` is the payload's offset in the file (for messages).
 struct Reader {
     const std::string& in;
     std::size_t pos;
     const std::string& name;
+    std::uint64_t base = 0;
     InputError fail(const std::string& why) const {
-        return InputError(name + ": corrupt trace at byte " + std::to_string(pos) + ": " + why);
+        return InputError(name + ": corrupt trace at byte " + std::to_string(base + pos) + ": " + why);
     }
     void need(std::size_t n) const {
         if (in.size() - pos < n) throw fail("truncated");
@@ -260,12 +265,6 @@ void write_group(Writer& w, const TraceGroup& g, bool as_workload, bool pairless
     for (const auto& h : g.hits) { w.put(h.t); w.put(h.tri); }
 }
 
-void write_payload(Writer& w, const Trace& t) {
-    write_header(w, t, false, t.pairless);
-    w.put(std::uint64_t(t.groups.size()));
-    for (const auto& g : t.groups) write_group(w, g, false, t.pairless);
-}
-
 }  // namespace
 
 // The hash covers the header part, the groups and then the group count (last,
@@ -300,46 +299,10 @@ std::string workload_hash(const Trace& t, bool pairless) {
     return h.value();
 }
 
-std::string serialize_trace(const Trace& t) {
-    Writer count;
-    count.count_only = true;
-    write_payload(count, t);
-    // One buffer: the header's place first, filled in once the payload is there.
-    Writer w;
-    w.out.reserve(kHeaderBytes + count.size);
-    w.out.append(kMagic, sizeof kMagic);
-    w.out.append(kHeaderBytes - sizeof kMagic, '\0');
-    write_payload(w, t);
-    Writer hdr;
-    hdr.put(kTraceVersion);
-    hdr.put(std::uint32_t(kHeaderBytes));
-    hdr.put(std::uint64_t(w.out.size() - kHeaderBytes));
-    hdr.put(fnv1a(w.out.data() + kHeaderBytes, w.out.size() - kHeaderBytes));
-    w.out.replace(sizeof kMagic, hdr.out.size(), hdr.out);
-    return std::move(w.out);
-}
+namespace {
 
-Trace parse_trace(const std::string& bytes, const std::string& name) {
-    if (bytes.size() < kHeaderBytes) throw InputError(name + ": not a raplas trace (file too short)");
-    if (std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) throw InputError(name + ": not a raplas trace (bad magic)");
-    Reader r{bytes, sizeof kMagic, name};
-    auto version = r.get<std::uint32_t>();
-    if (version != kTraceVersion)
-        throw InputError(name + ": trace format version " + std::to_string(version) + ", this raplas reads version " +
-                         std::to_string(kTraceVersion) + " (regenerate it with 'raplas trace')");
-    auto header = r.get<std::uint32_t>();
-    auto payload = r.get<std::uint64_t>();
-    auto sum = r.get<std::uint64_t>();
-    if (header != kHeaderBytes) throw InputError(name + ": corrupt trace header");
-    if (bytes.size() - kHeaderBytes < payload)
-        throw InputError(name + ": truncated trace (" + std::to_string(bytes.size() - kHeaderBytes) + " of " +
-                         std::to_string(payload) + " payload bytes)");
-    if (bytes.size() - kHeaderBytes > payload)
-        throw InputError(name + ": corrupt trace (" + std::to_string(bytes.size() - kHeaderBytes - payload) +
-                         " bytes after the " + std::to_string(payload) + "-byte payload)");
-    if (fnv1a(bytes.data() + kHeaderBytes, payload) != sum) throw InputError(name + ": corrupt trace (checksum mismatch)");
-
-    Trace t;
+// The HEAD block's payload (docs/TRACE.md): everything of the trace but its groups.
+void parse_head(Reader& r, Trace& t) {
     t.scene_name = r.get_str();
     try {
         t.format = NumFormat::parse(r.get_str());
@@ -376,94 +339,388 @@ Trace parse_trace(const std::string& bytes, const std::string& name) {
     }
     if (next != nt) throw r.fail("spheres cover " + std::to_string(next) + " of " + std::to_string(nt) + " triangles");
     t.primary_groups = r.get<std::uint32_t>();
-    auto ng = r.get_count(32);
-    if (t.primary_groups > ng) throw r.fail("more primary groups than groups");
-    t.groups.resize(ng);
-    for (std::size_t gi = 0; gi < ng; ++gi) {
-        TraceGroup& g = t.groups[gi];
-        auto kind = r.get<std::uint8_t>();
-        if (kind > 1) throw r.fail("bad group kind");
-        g.kind = GroupKind(kind);
-        if ((gi < t.primary_groups) != (g.kind == GroupKind::primary)) throw r.fail("group kinds out of order");
-        g.n = r.get<std::uint32_t>();
-        if (g.n == 0 || g.n > 64) throw r.fail("group size " + std::to_string(g.n) + " not in 1..64");
-        g.px = r.get<std::int32_t>(); g.py = r.get<std::int32_t>();
-        g.origin = r.get_vec();
-        g.tmax = r.get<float>();
-        g.row_valid = r.get<std::uint64_t>(); g.col_valid = r.get<std::uint64_t>();
-        const std::uint64_t full = g.n == 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << g.n) - 1;
-        if ((g.row_valid & ~full) || (g.col_valid & ~full)) throw r.fail("validity mask wider than the group");
-        r.need(std::size_t(g.n) * 2 * 16);
-        g.planes.resize(2 * g.n);
-        for (auto& p : g.planes) { p.n = r.get_vec(); p.w = r.get<float>(); }
-        r.need(std::size_t(g.n) * g.n * 12);
-        g.dirs.resize(std::size_t(g.n) * g.n);
-        for (auto& d : g.dirs) d = r.get_vec();
-        g.counts.plane_tests = r.get<std::uint64_t>();
-        g.counts.sphere_hits = r.get<std::uint64_t>();
-        g.counts.rt_tests = r.get<std::uint64_t>();
-        g.counts.pairless = r.get<std::uint64_t>();
-        const std::uint32_t mb = mask_bytes(g.n);
-        auto nh = r.get_count(4 + 2 * mb);
-        g.sphere_hits.resize(nh);
-        std::uint64_t rt = 0;
-        std::int64_t prev = -1;
-        for (auto& s : g.sphere_hits) {
-            s.sphere = r.get<std::uint32_t>();
-            s.rows = r.get_mask(mb);
-            s.cols = r.get_mask(mb);
-            if (s.sphere >= ns || std::int64_t(s.sphere) <= prev) throw r.fail("sphere hit list out of order or range");
-            if (!s.rows || !s.cols || (s.rows & ~g.row_valid) || (s.cols & ~g.col_valid)) throw r.fail("bad plane-hit mask");
-            prev = s.sphere;
-            rt += std::uint64_t(__builtin_popcountll(s.rows)) * std::uint64_t(__builtin_popcountll(s.cols)) * t.tri_count[s.sphere];
-        }
-        if (nh != g.counts.sphere_hits || rt != g.counts.rt_tests) throw r.fail("group counts disagree with its sphere hits");
-        if (t.pairless) {
-            // Runs ascending, apart, inside Sphere Memory and disjoint from the sphere hits.
-            auto nr = r.get_count(2);
-            const auto run_bytes = r.get<std::uint64_t>();
-            if (run_bytes < 2 * nr || run_bytes > 10 * nr) throw r.fail("pair-less runs in " + std::to_string(run_bytes) + " bytes");
-            const std::size_t runs_end = r.pos + run_bytes;
-            g.pairless.resize(nr);
-            std::uint64_t next = 0, spheres = 0;
-            std::size_t hi = 0;
-            for (auto& run : g.pairless) {
-                const std::uint64_t first = next + r.get_varint();
-                const std::uint64_t count = std::uint64_t(r.get_varint()) + 1;
-                if (first + count > ns) throw r.fail("pair-less spheres out of range");
-                while (hi < g.sphere_hits.size() && g.sphere_hits[hi].sphere < first) ++hi;
-                if (hi < g.sphere_hits.size() && g.sphere_hits[hi].sphere < first + count)
-                    throw r.fail("sphere " + std::to_string(g.sphere_hits[hi].sphere) + " both hit and pair-less");
-                run = {std::uint32_t(first), std::uint32_t(count)};
-                spheres += count;
-                next = first + count + 1;
-            }
-            if (r.pos != runs_end) throw r.fail("pair-less runs do not fill their " + std::to_string(run_bytes) + " bytes");
-            if (spheres != g.counts.pairless) throw r.fail("group counts disagree with its pair-less spheres");
-        } else if (g.counts.pairless) {
-            throw r.fail("pair-less count without pair-less spheres");
-        }
-        r.need(std::size_t(g.n) * g.n * 12);
-        g.hits.resize(std::size_t(g.n) * g.n);
-        for (auto& h : g.hits) {
-            h.t = r.get<double>();
-            h.tri = r.get<std::int32_t>();
-            if (h.tri < -1 || h.tri >= std::int64_t(nt)) throw r.fail("hit triangle out of range");
-        }
+    if (r.pos != r.in.size()) throw r.fail("trailing bytes in the HEAD block");
+}
+
+// Group gi of trace t (whose header is read) from a GROUPS block.
+void parse_group(Reader& r, const Trace& t, std::uint64_t gi, TraceGroup& g) {
+    g = TraceGroup{};
+    const std::size_t ns = t.spheres.size(), nt = t.triangles.size();
+    auto kind = r.get<std::uint8_t>();
+    if (kind > 1) throw r.fail("bad group kind");
+    g.kind = GroupKind(kind);
+    if ((gi < t.primary_groups) != (g.kind == GroupKind::primary)) throw r.fail("group kinds out of order");
+    g.n = r.get<std::uint32_t>();
+    if (g.n == 0 || g.n > 64) throw r.fail("group size " + std::to_string(g.n) + " not in 1..64");
+    g.px = r.get<std::int32_t>(); g.py = r.get<std::int32_t>();
+    g.origin = r.get_vec();
+    g.tmax = r.get<float>();
+    g.row_valid = r.get<std::uint64_t>(); g.col_valid = r.get<std::uint64_t>();
+    const std::uint64_t full = g.n == 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << g.n) - 1;
+    if ((g.row_valid & ~full) || (g.col_valid & ~full)) throw r.fail("validity mask wider than the group");
+    r.need(std::size_t(g.n) * 2 * 16);
+    g.planes.resize(2 * g.n);
+    for (auto& p : g.planes) { p.n = r.get_vec(); p.w = r.get<float>(); }
+    r.need(std::size_t(g.n) * g.n * 12);
+    g.dirs.resize(std::size_t(g.n) * g.n);
+    for (auto& d : g.dirs) d = r.get_vec();
+    g.counts.plane_tests = r.get<std::uint64_t>();
+    g.counts.sphere_hits = r.get<std::uint64_t>();
+    g.counts.rt_tests = r.get<std::uint64_t>();
+    g.counts.pairless = r.get<std::uint64_t>();
+    const std::uint32_t mb = mask_bytes(g.n);
+    auto nh = r.get_count(4 + 2 * mb);
+    g.sphere_hits.resize(nh);
+    std::uint64_t rt = 0;
+    std::int64_t prev = -1;
+    for (auto& s : g.sphere_hits) {
+        s.sphere = r.get<std::uint32_t>();
+        s.rows = r.get_mask(mb);
+        s.cols = r.get_mask(mb);
+        if (s.sphere >= ns || std::int64_t(s.sphere) <= prev) throw r.fail("sphere hit list out of order or range");
+        if (!s.rows || !s.cols || (s.rows & ~g.row_valid) || (s.cols & ~g.col_valid)) throw r.fail("bad plane-hit mask");
+        prev = s.sphere;
+        rt += std::uint64_t(__builtin_popcountll(s.rows)) * std::uint64_t(__builtin_popcountll(s.cols)) * t.tri_count[s.sphere];
     }
-    if (r.pos != bytes.size()) throw r.fail("trailing bytes");
-    return t;
+    if (nh != g.counts.sphere_hits || rt != g.counts.rt_tests) throw r.fail("group counts disagree with its sphere hits");
+    if (t.pairless) {
+        // Runs ascending, apart, inside Sphere Memory and disjoint from the sphere hits.
+        auto nr = r.get_count(2);
+        const auto run_bytes = r.get<std::uint64_t>();
+        if (run_bytes < 2 * nr || run_bytes > 10 * nr) throw r.fail("pair-less runs in " + std::to_string(run_bytes) + " bytes");
+        const std::size_t runs_end = r.pos + run_bytes;
+        g.pairless.resize(nr);
+        std::uint64_t next = 0, spheres = 0;
+        std::size_t hi = 0;
+        for (auto& run : g.pairless) {
+            const std::uint64_t first = next + r.get_varint();
+            const std::uint64_t count = std::uint64_t(r.get_varint()) + 1;
+            if (first + count > ns) throw r.fail("pair-less spheres out of range");
+            while (hi < g.sphere_hits.size() && g.sphere_hits[hi].sphere < first) ++hi;
+            if (hi < g.sphere_hits.size() && g.sphere_hits[hi].sphere < first + count)
+                throw r.fail("sphere " + std::to_string(g.sphere_hits[hi].sphere) + " both hit and pair-less");
+            run = {std::uint32_t(first), std::uint32_t(count)};
+            spheres += count;
+            next = first + count + 1;
+        }
+        if (r.pos != runs_end) throw r.fail("pair-less runs do not fill their " + std::to_string(run_bytes) + " bytes");
+        if (spheres != g.counts.pairless) throw r.fail("group counts disagree with its pair-less spheres");
+    } else if (g.counts.pairless) {
+        throw r.fail("pair-less count without pair-less spheres");
+    }
+    r.need(std::size_t(g.n) * g.n * 12);
+    g.hits.resize(std::size_t(g.n) * g.n);
+    for (auto& h : g.hits) {
+        h.t = r.get<double>();
+        h.tri = r.get<std::int32_t>();
+        if (h.tri < -1 || h.tri >= std::int64_t(nt)) throw r.fail("hit triangle out of range");
+    }
+}
+
+const char* block_name(std::uint32_t kind) {
+    switch (TraceBlock(kind)) {
+        case TraceBlock::head: return "HEAD";
+        case TraceBlock::groups: return "GROUPS";
+        case TraceBlock::total: return "TOTAL";
+        case TraceBlock::end: return "END";
+    }
+    return "unknown";
+}
+
+}  // namespace
+
+// ---- writing ----------------------------------------------------------------
+
+TraceWriter::TraceWriter(Sink sink) : sink_(std::move(sink)) {}
+
+void TraceWriter::block(TraceBlock kind, const std::string& payload) {
+    Writer h;
+    h.put(std::uint32_t(kind));
+    h.put(std::uint64_t(payload.size()));
+    h.put(fnv1a(payload.data(), payload.size()));
+    sink_(h.out.data(), h.out.size());
+    sink_(payload.data(), payload.size());
+    bytes_ += h.out.size() + payload.size();
+}
+
+void TraceWriter::header(const Trace& t) {
+    if (headed_) throw std::logic_error("TraceWriter: header() twice");
+    Writer f;
+    f.bytes(kMagic, sizeof kMagic);
+    f.put(kTraceVersion);
+    f.put(std::uint32_t(kHeaderBytes));
+    f.put(std::uint64_t(0));
+    f.put(std::uint64_t(0));
+    sink_(f.out.data(), f.out.size());
+    bytes_ += f.out.size();
+    Writer w;
+    write_header(w, t, false, t.pairless);
+    block(TraceBlock::head, w.out);
+    primary_ = t.primary_groups;
+    pairless_ = t.pairless;
+    headed_ = true;
+}
+
+void TraceWriter::group(const TraceGroup& g) {
+    if (!headed_ || (groups_ == primary_ && !totalled_))
+        throw std::logic_error("TraceWriter: group() before header() or, after the primary groups, before total()");
+    Writer w;
+    w.out.swap(pending_);
+    if (pending_count_ == 0) w.put(std::uint32_t(0));  // the group count, filled in by flush()
+    write_group(w, g, false, pairless_);
+    w.out.swap(pending_);
+    ++pending_count_;
+    ++groups_;
+    if (pending_count_ == kTraceBlockGroups || pending_.size() >= kTraceBlockTargetBytes || groups_ == primary_) flush();
+}
+
+void TraceWriter::flush() {
+    if (!pending_count_) return;
+    std::memcpy(pending_.data(), &pending_count_, sizeof pending_count_);
+    block(TraceBlock::groups, pending_);
+    pending_.clear();
+    pending_count_ = 0;
+}
+
+void TraceWriter::total(std::uint64_t groups) {
+    if (!headed_ || totalled_ || groups_ != primary_ || groups < primary_)
+        throw std::logic_error("TraceWriter: total() must follow the last primary group, once");
+    flush();
+    Writer w;
+    w.put(groups);
+    block(TraceBlock::total, w.out);
+    totalled_ = true;
+}
+
+void TraceWriter::finish() {
+    if (!totalled_) throw std::logic_error("TraceWriter: finish() before total()");
+    flush();
+    Writer w;
+    w.put(groups_);
+    block(TraceBlock::end, w.out);
+}
+
+std::string serialize_trace(const Trace& t) {
+    std::string out;
+    TraceWriter w([&out](const char* p, std::size_t n) { out.append(p, n); });
+    w.header(t);
+    for (std::size_t i = 0; i < t.groups.size(); ++i) {
+        if (i == t.primary_groups) w.total(t.groups.size());
+        w.group(t.groups[i]);
+    }
+    if (t.groups.size() == t.primary_groups) w.total(t.groups.size());
+    w.finish();
+    return out;
 }
 
 void write_trace(const std::string& path, const Trace& t) { write_file_atomically(path, serialize_trace(t)); }
 
+// ---- reading ----------------------------------------------------------------
+
+// Where the bytes come from: read() fills up to n bytes, fewer only at the end.
+struct TraceReader::Source {
+    virtual ~Source() = default;
+    virtual std::size_t read(char* dst, std::size_t n) = 0;
+    std::uint64_t offset = 0;  // bytes read so far
+};
+
+namespace {
+
+struct MemorySource : TraceReader::Source {
+    const std::string& bytes;
+    explicit MemorySource(const std::string& b) : bytes(b) {}
+    std::size_t read(char* dst, std::size_t n) override {
+        const std::size_t k = std::min<std::size_t>(n, bytes.size() - std::size_t(offset));
+        std::memcpy(dst, bytes.data() + offset, k);
+        offset += k;
+        return k;
+    }
+};
+
+struct FdSource : TraceReader::Source {
+    int fd = -1;
+    std::string path;
+    ~FdSource() override {
+        if (fd >= 0) ::close(fd);
+    }
+    std::size_t read(char* dst, std::size_t n) override {
+        std::size_t got = 0;
+        while (got < n) {
+            const ssize_t k = ::read(fd, dst + got, n - got);
+            if (k < 0) {
+                if (errno == EINTR) continue;
+                throw InputError(path + ": cannot read trace: " + std::strerror(errno));
+            }
+            if (k == 0) break;
+            got += std::size_t(k);
+        }
+        offset += got;
+        return got;
+    }
+};
+
+}  // namespace
+
+TraceReader::TraceReader(const std::string& path) : name_(path) {
+    struct stat st{};
+    if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) throw InputError(path + ": is a directory, not a trace");
+    auto src = std::make_unique<FdSource>();
+    src->path = path;
+    src->fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (src->fd < 0) throw InputError(path + ": cannot open trace: " + std::strerror(errno));
+    src_ = std::move(src);
+    next_block();
+}
+
+TraceReader::TraceReader(const std::string& bytes, const std::string& name)
+    : src_(std::make_unique<MemorySource>(bytes)), name_(name) {
+    next_block();
+}
+
+TraceReader::~TraceReader() = default;
+
+std::uint64_t TraceReader::bytes_read() const { return src_->offset; }
+
+// Reads the next block (the file header first): HEAD into header_, GROUPS
+// into payload_, TOTAL and END checked. False once END is read.
+bool TraceReader::next_block() {
+    const std::string& name = name_;
+    if (blocks_ == 0) {
+        char h[kHeaderBytes];
+        const std::size_t n = src_->read(h, sizeof h);
+        if (n < 8 + 4) {
+            if (n >= 8 && std::memcmp(h, kMagic, sizeof kMagic) != 0)
+                throw InputError(name + ": not a raplas trace (bad magic)");
+            throw InputError(name + ": not a raplas trace (file too short)");
+        }
+        if (std::memcmp(h, kMagic, sizeof kMagic) != 0) throw InputError(name + ": not a raplas trace (bad magic)");
+        std::uint32_t version, header;
+        std::memcpy(&version, h + 8, 4);
+        if (version != kTraceVersion)
+            throw InputError(name + ": trace format version " + std::to_string(version) + ", this raplas reads version " +
+                             std::to_string(kTraceVersion) + " (regenerate it with 'raplas trace')");
+        if (n < sizeof h) throw InputError(name + ": not a raplas trace (file too short)");
+        std::memcpy(&header, h + 12, 4);
+        std::uint64_t reserved[2];
+        std::memcpy(reserved, h + 16, 16);
+        if (header != kHeaderBytes || reserved[0] || reserved[1]) throw InputError(name + ": corrupt trace header");
+    }
+    // Block header.
+    const std::uint64_t at = src_->offset;
+    char bh[kTraceBlockHeaderBytes];
+    const std::size_t n = src_->read(bh, sizeof bh);
+    if (n == 0)
+        throw InputError(name + ": truncated trace (it ends after " + std::to_string(groups_read_) +
+                         " groups, without its END block)");
+    if (n < sizeof bh)
+        throw InputError(name + ": truncated trace (it ends inside the header of block " + std::to_string(blocks_) +
+                         " at byte " + std::to_string(at) + ")");
+    std::uint32_t kind;
+    std::uint64_t size, sum;
+    std::memcpy(&kind, bh, 4);
+    std::memcpy(&size, bh + 4, 8);
+    std::memcpy(&sum, bh + 12, 8);
+    const std::string what = std::string(block_name(kind)) + " block " + std::to_string(blocks_) + " at byte " + std::to_string(at);
+    // What may come here: HEAD first; then GROUPS, TOTAL right after the
+    // primary groups, END after TOTAL.
+    const bool want_head = blocks_ == 0;
+    const bool ok = want_head ? kind == std::uint32_t(TraceBlock::head)
+                              : (kind == std::uint32_t(TraceBlock::groups) &&
+                                 (total_known_ ? groups_read_ < total_ : groups_read_ < header_.primary_groups)) ||
+                                    (kind == std::uint32_t(TraceBlock::total) && !total_known_ &&
+                                     groups_read_ == header_.primary_groups) ||
+                                    (kind == std::uint32_t(TraceBlock::end) && total_known_);
+    if (!ok) {
+        const std::string expected = want_head ? "HEAD"
+                                     : !total_known_ ? (groups_read_ < header_.primary_groups ? "GROUPS" : "TOTAL")
+                                     : groups_read_ < total_ ? "GROUPS or END" : "END";
+        throw InputError(name + ": corrupt trace at byte " + std::to_string(at) + ": block kind " + std::to_string(kind) +
+                         " (" + block_name(kind) + ") where the " + expected + " block belongs");
+    }
+    // The payload, read as it arrives (a size past the end of the stream
+    // is found to be truncated, never allocated at once).
+    constexpr std::size_t kChunk = std::size_t(1) << 20;
+    payload_.clear();
+    while (payload_.size() < size) {
+        const std::size_t want = std::size_t(std::min<std::uint64_t>(kChunk, size - payload_.size()));
+        const std::size_t old = payload_.size();
+        payload_.resize(old + want);
+        const std::size_t got = src_->read(payload_.data() + old, want);
+        payload_.resize(old + got);
+        if (got < want)
+            throw InputError(name + ": truncated trace (" + what + ": " + std::to_string(payload_.size()) + " of " +
+                             std::to_string(size) + " payload bytes)");
+    }
+    if (fnv1a(payload_.data(), payload_.size()) != sum)
+        throw InputError(name + ": corrupt trace (checksum mismatch in " + what + ")");
+    ++blocks_;
+    payload_at_ = at + kTraceBlockHeaderBytes;
+    Reader r{payload_, 0, name, payload_at_};
+    switch (TraceBlock(kind)) {
+        case TraceBlock::head:
+            parse_head(r, header_);
+            return true;
+        case TraceBlock::groups:
+            left_ = r.get<std::uint32_t>();
+            if (left_ == 0) throw r.fail("empty GROUPS block");
+            pos_ = r.pos;
+            return true;
+        case TraceBlock::total: {
+            total_ = r.get<std::uint64_t>();
+            if (r.pos != payload_.size()) throw r.fail("TOTAL block of " + std::to_string(payload_.size()) + " bytes");
+            if (total_ < header_.primary_groups || total_ > kMaxCount)
+                throw r.fail("group count " + std::to_string(total_) + " with " + std::to_string(header_.primary_groups) +
+                             " primary groups");
+            total_known_ = true;
+            return true;
+        }
+        case TraceBlock::end: {
+            const auto g = r.get<std::uint64_t>();
+            if (r.pos != payload_.size()) throw r.fail("END block of " + std::to_string(payload_.size()) + " bytes");
+            if (g != groups_read_ || g != total_)
+                throw r.fail("END block counts " + std::to_string(g) + " groups; the trace has " +
+                             std::to_string(groups_read_) + " of the " + std::to_string(total_) + " its TOTAL block gives");
+            char extra[64];
+            const std::size_t more = src_->read(extra, sizeof extra);
+            if (more) {
+                std::uint64_t after = more;
+                while (std::size_t k = src_->read(extra, sizeof extra)) after += k;
+                throw InputError(name + ": corrupt trace (" + std::to_string(after) + " bytes after the END block)");
+            }
+            ended_ = true;
+            payload_ = std::string();
+            return false;
+        }
+    }
+    return false;  // (unreachable: the kind was checked)
+}
+
+bool TraceReader::next(TraceGroup& g) {
+    while (left_ == 0) {
+        if (ended_ || !next_block()) return false;
+    }
+    Reader r{payload_, pos_, name_, payload_at_};
+    parse_group(r, header_, groups_read_, g);
+    pos_ = r.pos;
+    ++groups_read_;
+    if (--left_ == 0 && pos_ != payload_.size()) throw r.fail("trailing bytes in the GROUPS block");
+    return true;
+}
+
+Trace parse_trace(const std::string& bytes, const std::string& name) {
+    TraceReader r(bytes, name);
+    Trace t = r.header();
+    TraceGroup g;
+    while (r.next(g)) t.groups.push_back(std::move(g));
+    return t;
+}
+
 Trace read_trace(const std::string& path) {
-    // A regular file is read straight into one buffer of its size; a pipe
-    // (`--trace <(...)`, /dev/stdin) to its end, the memory budget checked
-    // each time the buffer has doubled.
-    TextInput kind{"trace", "a", "trace file", 1.0};
-    kind.text = false;
-    return parse_trace(read_text_input(path, kind), path);
+    TraceReader r(path);
+    Trace t = r.header();
+    TraceGroup g;
+    while (r.next(g)) t.groups.push_back(std::move(g));
+    return t;
 }
 
 }  // namespace raplas

@@ -30,16 +30,18 @@ small=(--set image.width=8 --set image.height=8 --set groups.size=4 --set groups
 "$raplas" trace "${small[@]}" --mesh "$c/fuzz_obj/quad.obj" --format float32-wt \
   --out "$c/fuzz_trace/quad_8x8_g4_wt.trace"
 # The fp24 trace with its format named by the explicit (default) rounding
-# suffix "-rne" instead of "-rtz", same length, checksum recomputed.
+# suffix "-rne" instead of "-rtz", same length, the HEAD block's checksum recomputed.
 python3 - "$c/fuzz_trace/quad_8x8_g4_fp24.trace" "$c/fuzz_trace/format_name_rne.trace" <<'PY'
 import struct, sys
 b = bytearray(open(sys.argv[1], "rb").read())
 i = b.index(b"fp1-8-15-rtz")
 b[i:i + 12] = b"fp1-8-15-rne"
-h = 0xcbf29ce484222325
-for x in b[32:]:
+# the HEAD block (right after the 32-byte file header): kind, size, checksum, payload
+size = struct.unpack_from("<Q", b, 36)[0]
+h = 1469598103934665603
+for x in b[52:52 + size]:
     h = ((h ^ x) * 0x100000001b3) & 0xffffffffffffffff
-b[24:32] = struct.pack("<Q", h)
+b[44:52] = struct.pack("<Q", h)
 open(sys.argv[2], "wb").write(b)
 PY
 for f in "$c"/*/*; do

@@ -50,6 +50,7 @@ struct Consumer {
             ASSERT_TRUE(s.wait_for(i + 1)) << s.failure_message();
             Trace one = h;
             one.groups = {s.group(i)};
+            one.primary_groups = i < h.primary_groups ? 1 : 0;
             groups.push_back(serialize_trace(one));
             s.release(i + 1);
         }
@@ -82,6 +83,7 @@ TEST(GroupStream, HandsOverTheWholeFramesGroupsInOrderWithinItsWindow) {
             for (std::size_t i = 0; i < whole.groups.size(); ++i) {
                 Trace one = whole;
                 one.groups = {whole.groups[i]};
+                one.primary_groups = i < whole.primary_groups ? 1 : 0;
                 ASSERT_EQ(c.groups[i], serialize_trace(one)) << "group " << i << ", window " << window;
             }
             EXPECT_EQ(c.hash, workload_hash(whole, pairless));

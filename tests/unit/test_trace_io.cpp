@@ -2,6 +2,7 @@
 // round trip, and rejection of truncated, corrupt and foreign files.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -9,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <thread>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -26,7 +28,7 @@ using namespace raplas;
 using ::testing::AllOf;
 using ::testing::HasSubstr;
 
-constexpr std::size_t kHeader = 32;  // magic 8 + version 4 + header size 4 + payload size 8 + checksum 8
+constexpr std::size_t kHeader = 32;  // magic 8 + version 4 + header size 4 + two reserved u64
 
 Scene small_scene() {
     SceneRequest req;
@@ -135,13 +137,49 @@ std::string parse_error(const std::string& bytes, const std::string& name) {
     return "";
 }
 
-std::uint64_t fnv1a(const std::string& s, std::size_t from) {
+std::uint64_t fnv1a(const std::string& s, std::size_t from, std::size_t to = std::string::npos) {
     std::uint64_t h = 1469598103934665603ull;
-    for (std::size_t i = from; i < s.size(); ++i) {
+    for (std::size_t i = from; i < std::min(to, s.size()); ++i) {
         h ^= static_cast<unsigned char>(s[i]);
         h *= 1099511628211ull;
     }
     return h;
+}
+
+// The blocks of a trace file as written (docs/TRACE.md): kind, offset of
+// the payload, its size, whether its checksum holds, and (GROUPS) its group count.
+struct BlockInfo {
+    std::uint32_t kind = 0;
+    std::size_t at = 0;
+    std::uint64_t size = 0;
+    bool sum_ok = false;
+    std::uint32_t groups = 0;
+};
+std::vector<BlockInfo> blocks_of(const std::string& b) {
+    std::vector<BlockInfo> out;
+    for (std::size_t at = kHeader; at + kTraceBlockHeaderBytes <= b.size();) {
+        BlockInfo x;
+        std::uint64_t sum;
+        std::memcpy(&x.kind, &b[at], 4);
+        std::memcpy(&x.size, &b[at + 4], 8);
+        std::memcpy(&sum, &b[at + 12], 8);
+        x.at = at + kTraceBlockHeaderBytes;
+        if (x.at + x.size > b.size()) break;
+        x.sum_ok = sum == fnv1a(b, x.at, x.at + x.size);
+        if (x.kind == std::uint32_t(TraceBlock::groups)) std::memcpy(&x.groups, &b[x.at], 4);
+        out.push_back(x);
+        at = x.at + x.size;
+    }
+    return out;
+}
+
+// The rendered trace with its shadow groups repeated `times` times: enough
+// groups for several GROUPS blocks.
+Trace longer_trace(int times) {
+    Trace t = rendered().trace;
+    const std::vector<TraceGroup> shadow(t.groups.begin() + t.primary_groups, t.groups.end());
+    for (int i = 1; i < times; ++i) t.groups.insert(t.groups.end(), shadow.begin(), shadow.end());
+    return t;
 }
 
 TEST(TraceIo, MakeTraceReflectsTheFrame) {
@@ -321,6 +359,109 @@ TEST(TraceIo, WrongMagicAndOtherVersions) {
     }
 }
 
+TEST(TraceIo, BlocksInTheirOrder) {
+    // HEAD, GROUPS blocks of the primary groups, TOTAL, GROUPS blocks of the
+    // shadow groups (at most kTraceBlockGroups each), END; nothing after it.
+    const Trace t = longer_trace(5);
+    const std::string b = serialize_trace(t);
+    const std::vector<BlockInfo> blocks = blocks_of(b);
+    ASSERT_GE(blocks.size(), 6u);
+    EXPECT_EQ(blocks.front().kind, std::uint32_t(TraceBlock::head));
+    EXPECT_EQ(blocks.back().kind, std::uint32_t(TraceBlock::end));
+    EXPECT_EQ(blocks.back().at + blocks.back().size, b.size());
+    std::uint64_t groups = 0, at_total = ~std::uint64_t(0), shadow_blocks = 0;
+    for (std::size_t i = 1; i + 1 < blocks.size(); ++i) {
+        EXPECT_TRUE(blocks[i].sum_ok);
+        if (blocks[i].kind == std::uint32_t(TraceBlock::total)) {
+            at_total = groups;
+            std::uint64_t g;
+            std::memcpy(&g, &b[blocks[i].at], 8);
+            EXPECT_EQ(g, t.groups.size());
+            continue;
+        }
+        ASSERT_EQ(blocks[i].kind, std::uint32_t(TraceBlock::groups)) << i;
+        EXPECT_GE(blocks[i].groups, 1u);
+        EXPECT_LE(blocks[i].groups, kTraceBlockGroups);
+        groups += blocks[i].groups;
+        shadow_blocks += at_total != ~std::uint64_t(0);
+    }
+    EXPECT_EQ(at_total, t.primary_groups);
+    EXPECT_EQ(groups, t.groups.size());
+    EXPECT_GE(shadow_blocks, (t.groups.size() - t.primary_groups + kTraceBlockGroups - 1) / kTraceBlockGroups);
+    expect_same_trace(t, parse_trace(b, "long.trace"));
+}
+
+TEST(TraceIo, WriterGroupByGroupGivesTheSameBytes) {
+    const Trace t = longer_trace(3);
+    std::string out;
+    TraceWriter w([&out](const char* p, std::size_t n) { out.append(p, n); });
+    Trace header = t;
+    header.groups.clear();
+    w.header(header);
+    for (std::size_t i = 0; i < t.groups.size(); ++i) {
+        if (i == t.primary_groups) w.total(t.groups.size());
+        w.group(t.groups[i]);
+        EXPECT_EQ(w.bytes(), out.size());
+    }
+    w.finish();
+    EXPECT_EQ(out, serialize_trace(t));
+    // misuse is a programming error, not bad input
+    TraceWriter x([](const char*, std::size_t) {});
+    EXPECT_THROW(x.group(t.groups[0]), std::logic_error);
+    x.header(header);
+    for (std::uint32_t i = 0; i < t.primary_groups; ++i) x.group(t.groups[i]);
+    EXPECT_THROW(x.group(t.groups[t.primary_groups]), std::logic_error);  // TOTAL first
+    EXPECT_THROW(x.finish(), std::logic_error);
+}
+
+TEST(TraceIo, MorePrimaryGroupsThanGroupsIsRejected) {
+    // The HEAD block's primary group count (its last 4 bytes) raised past the
+    // group count, its checksum made right again.
+    const Trace& t = rendered().trace;
+    std::string b = serialize_trace(t);
+    const BlockInfo head = blocks_of(b).front();
+    const std::uint32_t p = std::uint32_t(t.groups.size() + 1);
+    std::memcpy(&b[head.at + head.size - 4], &p, 4);
+    const std::uint64_t sum = fnv1a(b, head.at, head.at + head.size);
+    std::memcpy(&b[head.at - 8], &sum, 8);
+    const std::string msg = parse_error(b, "bad.trace");
+    EXPECT_THAT(msg, AllOf(HasSubstr("bad.trace"), ::testing::Not(HasSubstr("not an InputError")))) << msg;
+}
+
+TEST(TraceIo, ReaderHandsOutGroupsBeforeLateDamage) {
+    // A stream is checked block by block: the groups before a damaged block
+    // come out first, then one line names the block.
+    const Trace t = longer_trace(5);
+    const std::string b = serialize_trace(t);
+    const std::vector<BlockInfo> blocks = blocks_of(b);
+    const BlockInfo& last = blocks[blocks.size() - 2];  // the last GROUPS block
+    ASSERT_EQ(last.kind, std::uint32_t(TraceBlock::groups));
+    std::string c = b;
+    c[last.at + last.size / 2] ^= 1;
+    TraceReader r(c, "late.trace");
+    TraceGroup g;
+    std::uint64_t n = 0;
+    try {
+        while (r.next(g)) ++n;
+        ADD_FAILURE() << "damaged block accepted";
+    } catch (const InputError& e) {
+        EXPECT_THAT(e.what(), AllOf(HasSubstr("late.trace"), HasSubstr("checksum mismatch in GROUPS block " +
+                                                                        std::to_string(blocks.size() - 2))));
+    }
+    EXPECT_EQ(n, t.groups.size() - last.groups);
+    EXPECT_TRUE(r.total_known());
+    // cut at a block boundary: no END block
+    const std::string cut = b.substr(0, last.at - kTraceBlockHeaderBytes);
+    EXPECT_THAT(parse_error(cut, "cut.trace"),
+                HasSubstr("truncated trace (it ends after " + std::to_string(t.groups.size() - last.groups) + " groups"));
+    // a block out of place: END where TOTAL belongs
+    std::string swapped = b;
+    const std::uint32_t end = std::uint32_t(TraceBlock::end);
+    for (const BlockInfo& x : blocks)
+        if (x.kind == std::uint32_t(TraceBlock::total)) std::memcpy(&swapped[x.at - kTraceBlockHeaderBytes], &end, 4);
+    EXPECT_THAT(parse_error(swapped, "order.trace"), HasSubstr("where the TOTAL block belongs"));
+}
+
 // The structural checks behind the checksum: files whose checksum is right
 // but whose content is inconsistent.
 TEST(TraceIo, InconsistentContentWithAValidChecksumIsRejected) {
@@ -346,7 +487,6 @@ TEST(TraceIo, InconsistentContentWithAValidChecksumIsRejected) {
          [&](Trace& t) { t.groups[with_hits].sphere_hits[0].sphere = std::uint32_t(t.spheres.size()); }},
         {"empty plane mask", [&](Trace& t) { t.groups[with_hits].sphere_hits[0].rows = 0; }},
         {"group kinds out of order", [](Trace& t) { t.primary_groups += 1; }},
-        {"more primary groups than groups", [](Trace& t) { t.primary_groups = std::uint32_t(t.groups.size() + 1); }},
         {"bad format", [](Trace& t) { t.format.exp_bits = 1; }},
         {"pair-less sphere that is also a hit",
          [&](Trace& t) {
@@ -370,10 +510,8 @@ TEST(TraceIo, InconsistentContentWithAValidChecksumIsRejected) {
         Trace t = good;
         c.edit(t);
         const std::string bytes = serialize_trace(t);
-        // the checksum is valid: only the content can be wrong
-        std::uint64_t sum;
-        std::memcpy(&sum, &bytes[24], 8);
-        ASSERT_EQ(sum, fnv1a(bytes, kHeader)) << c.what;
+        // every block's checksum is valid: only the content can be wrong
+        for (const BlockInfo& b : blocks_of(bytes)) ASSERT_TRUE(b.sum_ok) << c.what;
         const std::string msg = parse_error(bytes, "bad.trace");
         EXPECT_THAT(msg, AllOf(HasSubstr("bad.trace"), ::testing::Not(HasSubstr("not an InputError")))) << c.what;
         EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
@@ -406,6 +544,23 @@ TEST_F(TraceFiles, WriteAndReadThroughTheFilesystem) {
     EXPECT_EQ(entries, 1u);
     Trace back = read_trace(p);
     expect_same_trace(r.trace, back);
+    // the reader on the file, group by group, and on a pipe
+    {
+        TraceReader rd(p);
+        TraceGroup g;
+        std::size_t n = 0;
+        while (rd.next(g)) ++n;
+        EXPECT_EQ(n, r.trace.groups.size());
+        EXPECT_EQ(rd.bytes_read(), r.bytes.size());
+    }
+    {
+        const std::string fifo = (dir / "pipe.trace").string();
+        ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+        std::thread writer([&] { std::ofstream(fifo, std::ios::binary) << r.bytes; });
+        const Trace piped = read_trace(fifo);
+        writer.join();
+        expect_same_trace(r.trace, piped);
+    }
     // the memory check reads the shape from the file's header and sizes the
     // read buffer from it: the record sizes of this version
     const TraceShape shape = trace_file_shape(p);

@@ -1,10 +1,13 @@
 // The profile trace: the workload the timing model consumes. Versioned
-// binary format with a header, section sizes and a checksum (docs/TRACE.md);
-// the reader rejects truncated, corrupt or foreign-version files with a
-// one-line InputError naming the file.
+// binary format: a file header, then blocks, each with its size and
+// checksum, written and read one at a time (docs/TRACE.md); the reader
+// rejects truncated, corrupt or foreign-version files with a one-line
+// InputError naming the file, also when the damage is late in a stream.
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -12,8 +15,18 @@
 
 namespace raplas {
 
-// 2: triangle records carry V1 and V2; 3: groups may carry their pair-less spheres.
-constexpr std::uint32_t kTraceVersion = 3;
+// 2: triangle records carry V1 and V2; 3: groups may carry their pair-less
+// spheres; 4: blocks (written and read as a stream).
+constexpr std::uint32_t kTraceVersion = 4;
+constexpr std::uint64_t kTraceFileHeaderBytes = 32;  // magic, version, header size, two reserved u64
+constexpr std::uint64_t kTraceBlockHeaderBytes = 20;  // u32 kind, u64 payload bytes, u64 payload checksum
+// Block kinds, in the order a trace holds them: HEAD, GROUPS... (the primary
+// groups), TOTAL, GROUPS... (the shadow groups), END.
+enum class TraceBlock : std::uint32_t { head = 1, groups = 2, total = 3, end = 4 };
+// A GROUPS block holds at most this many groups, and is closed once it
+// reaches this many bytes (and at the last primary group).
+constexpr std::uint32_t kTraceBlockGroups = 256;
+constexpr std::uint64_t kTraceBlockTargetBytes = std::uint64_t(1) << 20;
 // Bytes of one sphere and one triangle record in the file (docs/TRACE.md).
 constexpr std::uint64_t kTraceSphereBytes = 24;    // vec3 centre, f32 radius, u32 first, u32 count
 constexpr std::uint64_t kTraceTriangleBytes = 76;  // vec3 V0, E1, E2, E, V1, V2, i32 mesh index
@@ -97,8 +110,70 @@ private:
     bool pairless_;
     std::uint64_t hash_ = 0, groups_ = 0;
 };
+// Writes a trace block by block to `sink`: header() once, then group() for
+// each group in issue order with total() right after the last primary group
+// (before the first shadow group), then finish(). What it writes of a whole
+// Trace is serialize_trace()'s bytes.
+class TraceWriter {
+public:
+    using Sink = std::function<void(const char* data, std::size_t n)>;
+    explicit TraceWriter(Sink sink);
+    void header(const Trace& header);  // everything but the groups
+    void group(const TraceGroup& g);
+    void total(std::uint64_t groups);
+    void finish();
+    std::uint64_t bytes() const { return bytes_; }  // written so far
+    std::uint64_t groups() const { return groups_; }
+
+private:
+    void block(TraceBlock kind, const std::string& payload);
+    void flush();
+    Sink sink_;
+    std::string pending_;  // the open GROUPS block's groups
+    std::uint32_t pending_count_ = 0;
+    std::uint64_t bytes_ = 0, groups_ = 0, primary_ = 0;
+    bool pairless_ = false, headed_ = false, totalled_ = false;
+};
+
+// Reads a trace block by block, from a file, a pipe or bytes in memory,
+// checking each block (size, checksum, contents) as it arrives: only the
+// header and the block being read are held. Throws InputError (one line,
+// naming the file and, where it applies, the byte offset).
+class TraceReader {
+public:
+    explicit TraceReader(const std::string& path);  // a file or a pipe; reads up to the HEAD block
+    TraceReader(const std::string& bytes, const std::string& name);  // in memory
+    ~TraceReader();
+    TraceReader(const TraceReader&) = delete;
+    TraceReader& operator=(const TraceReader&) = delete;
+
+    const Trace& header() const { return header_; }  // its groups stay empty
+    // The next group in issue order into `g`; false once the END block is
+    // read (and nothing follows it).
+    bool next(TraceGroup& g);
+    bool total_known() const { return total_known_; }
+    std::uint64_t total() const { return total_; }
+    std::uint64_t groups_read() const { return groups_read_; }
+    std::uint64_t bytes_read() const;
+
+    struct Source;
+
+private:
+    bool next_block();  // false at END
+    std::unique_ptr<Source> src_;
+    std::string name_;
+    Trace header_;
+    std::string payload_;    // the current GROUPS block
+    std::size_t pos_ = 0;    // next byte of it
+    std::uint64_t payload_at_ = 0;  // its offset in the file
+    std::uint32_t left_ = 0;  // groups of it not yet read
+    std::uint64_t blocks_ = 0, groups_read_ = 0, total_ = 0;
+    bool total_known_ = false, ended_ = false;
+};
+
 Trace parse_trace(const std::string& bytes, const std::string& name);
 void write_trace(const std::string& path, const Trace& t);  // atomic
+// The whole trace, read block by block from a file or a pipe.
 Trace read_trace(const std::string& path);
 
 }  // namespace raplas

@@ -1,0 +1,63 @@
+// Internal to the app layer: a producer of ray groups (the front end, or a
+// trace read as a stream) on its own thread, feeding a GroupStream.
+#pragma once
+
+#include <functional>
+#include <new>
+#include <string>
+#include <thread>
+
+#include "raplas/frontend/group_source.hpp"
+#include "raplas/util/error.hpp"
+
+namespace raplas {
+
+// The front end of a streamed run, on its own thread (which starts
+// the worker threads): its failure is kept as a message for the command and
+// handed to the stream, whose waits then stop. Joined on destruction, the
+// stream cancelled first so that no worker waits for room.
+class FrontEndThread {
+public:
+    FrontEndThread() = default;
+    FrontEndThread(const FrontEndThread&) = delete;
+    FrontEndThread& operator=(const FrontEndThread&) = delete;
+    ~FrontEndThread() {
+        if (!thread_.joinable()) return;
+        stream_->cancel();
+        thread_.join();
+    }
+    void start(GroupStream& stream, std::function<void()> body) {
+        stream_ = &stream;
+        thread_ = std::thread([this, body = std::move(body)] {
+            try {
+                body();
+            } catch (const GroupStream::Cancelled&) {
+                // the model stopped first and says why
+            } catch (const InputError& e) {
+                stop(e.what(), true);
+            } catch (const std::bad_alloc&) {
+                stop("out of memory", false);
+            } catch (const std::exception& e) {
+                stop(e.what(), false);
+            }
+        });
+    }
+    void join() {
+        if (thread_.joinable()) thread_.join();
+    }
+    const std::string& error() const { return error_; }
+    bool input_error() const { return input_; }
+
+private:
+    void stop(const std::string& what, bool input) {
+        error_ = what;
+        input_ = input;
+        stream_->fail(std::current_exception(), "front end: " + what);
+    }
+    GroupStream* stream_ = nullptr;
+    std::thread thread_;
+    std::string error_;
+    bool input_ = false;
+};
+
+}  // namespace raplas
