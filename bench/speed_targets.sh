@@ -8,19 +8,30 @@
 #   2. ICC-cycles per second of the timing model, conference and bunny at 48
 #      ICCs, FIFO 1000, event mode, both functional modes;
 #   3. (--big) conference at 256 ICCs and 512x512 pixels: wall time and peak
-#      memory (/usr/bin/time -v), about 15 minutes on 2 cores.
+#      memory (/usr/bin/time -v), about 15 minutes on 2 cores;
+#   4. (--hd) the real-resolution frames, config paper, 256 ICCs, FIFO 1000,
+#      exact event mode in the default functional mode, streamed: conference at
+#      1920x1080 and 1280x720, bunny and sports car at 1920x1080; front end
+#      and model wall time apart, peak memory, load (hours on 2 cores: see
+#      docs/PERFORMANCE.md). --hd-sample F: the same frames with
+#      sim.estimate = sample_passes, fraction F, and --sample-front-end
+#      (minutes). With --hd or --hd-sample only these frames are run.
 # The front end against Embree is bench/bench_frontend.cpp (see PERFORMANCE.md).
 # --reading both|any: the Triangle Selector reading (icc.triangle_select;
 # default: the config's, any).
-#   bench/speed_targets.sh [--big] [--reading both|any] [build/raplas]
+#   bench/speed_targets.sh [--big] [--hd | --hd-sample F] [--reading both|any] [build/raplas]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 big=0
+hd=0
+hd_sample=()
 raplas=build/raplas
 reading=any
 while [[ $# -gt 0 ]]; do
   case $1 in
     --big) big=1 ;;
+    --hd) hd=1 ;;
+    --hd-sample) hd=1; hd_sample=(--set sim.estimate=sample_passes --set "sim.sample_fraction=$2" --sample-front-end); shift ;;
     --reading) reading=$2; shift ;;
     *) raplas=$1 ;;
   esac
@@ -36,6 +47,7 @@ json() { python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print($2)"
 echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs)"
 
 # 1. full paper sweep
+if [[ $hd == 0 ]]; then
 l0=$(load)
 start=$(date +%s.%N)
 "$raplas" sweep --scene scenes/bunny.toml --scene scenes/sportscar.toml --scene scenes/conference.toml \
@@ -61,6 +73,8 @@ for scene in bunny conference; do
   done
 done
 
+fi
+
 # 3. conference at 256 ICCs, 512 x 512
 if [[ $big == 1 ]]; then
   l0=$(load)
@@ -71,4 +85,22 @@ if [[ $big == 1 ]]; then
   wall=$(awk -F': ' '/Elapsed/ {print $2}' "$work/time.txt")
   echo "conference 512x512, 256 ICCs: $(json "$work/big.json" "d['total_cycles']") cycles," \
        "$wall wall, peak RSS $(python3 -c "print(f'{$rss / 1048576:.2f}')") GiB (load $l0 before, $(load) after)"
+fi
+
+# 4. real-resolution frames
+if [[ $hd == 1 ]]; then
+  for frame in "conference 1920 1080" "conference 1280 720" "bunny 1920 1080" "sportscar 1920 1080"; do
+    read -r scene w h <<<"$frame"
+    l0=$(load)
+    /usr/bin/time -v "$raplas" simulate --scene "scenes/$scene.toml" "${sel[@]}" --set "image.width=$w" \
+      --set "image.height=$h" --config paper --iccs 256 --fifo 1000 "${hd_sample[@]}" \
+      --json "$work/hd.json" -q 2>"$work/time.txt"
+    rss=$(awk -F: '/Maximum resident/ {print $2}' "$work/time.txt" | xargs)
+    wall=$(awk -F': ' '/Elapsed/ {print $2}' "$work/time.txt")
+    echo "$scene ${w}x$h, 256 ICCs${hd_sample:+ (sampled)}: $(json "$work/hd.json" "d['total_cycles']") cycles" \
+         "($(json "$work/hd.json" "round(d['time_ms'], 1)") ms at 400 MHz), $wall wall" \
+         "(front end $(json "$work/hd.json" "round(d['wall']['frontend_s'])") s, model" \
+         "$(json "$work/hd.json" "round(d['wall']['model_s'])") s, overlapping), peak RSS" \
+         "$(python3 -c "print(f'{$rss / 1024:.0f}')") MiB (load $l0 before, $(load) after)"
+  done
 fi
