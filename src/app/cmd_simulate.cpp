@@ -141,13 +141,18 @@ int cmd_simulate(const SimulateArgs& a) {
     double frontend_s = 0;
     nlohmann::json animation;  // with --frame: the animation's frame count and rate
     std::shared_ptr<TraceReader> trace_reader;  // a trace read as a stream (outlives its thread)
+    // The streaming machine takes the groups as the front end makes them (or
+    // as a trace's blocks are read), a window of passes ahead of the model;
+    // the baselines need the whole trace.
+    const bool streamed = !a.whole_frame && cfg.memory.system == model::MemorySystem::streaming;
+    auto open_stream = [&] {
+        auto owned = std::make_unique<GroupStream>(std::size_t(a.window) * cfg.iccs);
+        stream = owned.get();
+        source = std::move(owned);
+    };
     if (!a.trace.empty()) {
         if (so.frame >= 0) throw UsageError("--frame F draws a frame of a scene; a trace holds one frame already");
         if (!so.scene.empty() || !so.mesh.empty()) throw UsageError("give either --trace or --scene/--mesh, not both");
-        // The streaming machine reads the trace block by block on its own
-        // thread, a window of passes ahead of the model; the baselines need
-        // it whole.
-        const bool streamed = !a.whole_frame && cfg.memory.system == model::MemorySystem::streaming;
         struct stat st{};
         if (!streamed && ::stat(a.trace.c_str(), &st) == 0 && S_ISREG(st.st_mode))
             check_trace_read(a.trace, std::uint64_t(st.st_size));
@@ -164,19 +169,16 @@ int cmd_simulate(const SimulateArgs& a) {
                              cfg.format.name());
         if (streamed) {
             check_trace_streamed(cfg, a.trace, trace, a.window);
-            auto owned = std::make_unique<GroupStream>(std::size_t(a.window) * cfg.iccs);
-            stream = owned.get();
-            source = std::move(owned);
+            open_stream();
             stream->set_header(std::move(trace));
             frontend.start(*stream, [reader = trace_reader, stream, t0, &frontend_s] {
                 TraceGroup g;
-                bool totalled = false;
                 for (std::size_t i = 0; reader->next(g); ++i) {
-                    if (!totalled && reader->total_known()) stream->set_total(reader->total()), totalled = true;
+                    if (!stream->total_known() && reader->total_known()) stream->set_total(reader->total());
                     stream->acquire(i);
                     stream->put(i, std::move(g));
                 }
-                if (!totalled) stream->set_total(reader->total());
+                if (!stream->total_known()) stream->set_total(reader->total());
                 frontend_s = std::chrono::duration<double>(clock::now() - t0).count();
             });
         }
@@ -197,13 +199,8 @@ int cmd_simulate(const SimulateArgs& a) {
         fo.record = true;
         fo.pairless = cfg.icc.decoder.select == model::TriangleSelect::any;
         check_model_up_front(cfg, scene);
-        // The baselines are computed from the whole trace; the streaming
-        // machine takes the groups as the front end makes them.
-        const bool streamed = !a.whole_frame && cfg.memory.system == model::MemorySystem::streaming;
         if (streamed) {
-            auto owned = std::make_unique<GroupStream>(std::size_t(a.window) * cfg.iccs);
-            stream = owned.get();
-            source = std::move(owned);
+            open_stream();
             fo.stream = stream;
             // fo.before_shadow, called on the front end's thread, keeps a pointer to the scene.
             streamed_scene = std::move(scene);

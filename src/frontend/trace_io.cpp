@@ -30,19 +30,15 @@ constexpr std::uint64_t kMaxCount = std::uint64_t(1) << 32;
 // format, so every trace ever written keeps verifying.
 std::uint64_t fnv1a(const char* p, std::size_t n) { return fnv1a64(std::string_view(p, n), 1469598103934665603ull); }
 
-// Appends to `out`; with `count_only` it only adds up the bytes (`size`), so
-// that the whole file can be written into one buffer of the exact size; with
-// `hashing` it feeds the bytes to an FNV-1a hash instead (workload_hash).
+// Appends to `out`; with `hashing` it feeds the bytes to an FNV-1a hash
+// instead (workload_hash).
 struct Writer {
     std::string out;
-    bool count_only = false;
     bool hashing = false;
     std::uint64_t hash = 0xcbf29ce484222325ull;
-    std::size_t size = 0;
     void bytes(const char* p, std::size_t n) {
-        size += n;
         if (hashing) hash = fnv1a64(std::string_view(p, n), hash);
-        else if (!count_only) out.append(p, n);
+        else out.append(p, n);
     }
     template <class T> void put(const T& v) { bytes(reinterpret_cast<const char*>(&v), sizeof(T)); }
     void put_vec(const Vec3f& v) { put(v.x); put(v.y); put(v.z); }
@@ -707,20 +703,26 @@ bool TraceReader::next(TraceGroup& g) {
     return true;
 }
 
-Trace parse_trace(const std::string& bytes, const std::string& name) {
-    TraceReader r(bytes, name);
+namespace {
+
+// The header and every group a reader gives.
+Trace read_whole(TraceReader& r) {
     Trace t = r.header();
     TraceGroup g;
     while (r.next(g)) t.groups.push_back(std::move(g));
     return t;
 }
 
+}  // namespace
+
+Trace parse_trace(const std::string& bytes, const std::string& name) {
+    TraceReader r(bytes, name);
+    return read_whole(r);
+}
+
 Trace read_trace(const std::string& path) {
     TraceReader r(path);
-    Trace t = r.header();
-    TraceGroup g;
-    while (r.next(g)) t.groups.push_back(std::move(g));
-    return t;
+    return read_whole(r);
 }
 
 }  // namespace raplas
