@@ -5,7 +5,10 @@
 //     PSI timing, Decoder's `decided` count) of every ICC whose PSI has never
 //     been held is identical: one shared reference pipeline stands for all of
 //     them. An ICC whose Decoder cannot queue a hit takes over the reference
-//     state and is stepped on its own from then on ("individual").
+//     state and is stepped on its own ("individual") until its sphere side
+//     runs dry (Sphere FIFO and PSI empty, every sphere received decided)
+//     while the reference's has too: both are then in the same state, and
+//     it rejoins the reference.
 //  2. Behind the Triangle Selector each ICC is a work-conserving queue: a
 //     triangle selected in cycle c with m = |rows|·|cols| pairs is popped by
 //     the Ray Data Fetcher at the first free issue slot from c+1 on, issues
@@ -109,7 +112,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     // ICCs waiting for the triangle stream to reach their head sphere, by its first triangle.
     using Wait = std::pair<std::uint32_t, std::uint32_t>;
     std::priority_queue<Wait, std::vector<Wait>, std::greater<Wait>> waiting;
-    std::vector<std::uint32_t> selecting, individuals, full_now;
+    std::vector<std::uint32_t> selecting, individuals, full_now, diverged;
     // ICCs whose Triangle FIFO is full at the start of every cycle up to `second`.
     std::vector<std::pair<std::uint32_t, std::uint64_t>> full_until;
     // Back end of every ICC (EventBack, top.hpp): empty at the start of a
@@ -132,15 +135,34 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
             full_now.push_back(k);
         }
 
+    // The shared side's counters when each ICC last joined it (at the start
+    // of the pass, or when it rejoined): what it owes that ICC is the difference.
+    struct Joined {
+        std::uint64_t pushes, sphere_blocked, undecided, starved;
+    };
+    auto joined_now = [&] {
+        return Joined{rf.stats().pushes, lazy_sphere_blocked, lazy_undecided, rp.stats().starved_cycles};
+    };
+    std::vector<Joined> joined(na, Joined{rf_pushes0, 0, 0, rp_starved0});
     auto adopt_reference = [&](std::size_t k) {
         Icc& c = *active[k];
-        c.sphere_fifo.adopt(rf, rf.stats().pushes - rf_pushes0, ref_max);
+        const Joined& j = joined[k];
+        c.sphere_fifo.adopt(rf, rf.stats().pushes - j.pushes, ref_max);
         c.psi.adopt(rp);
         c.decoder.set_decided(rd.decided());
-        c.sphere_selector.add_blocked(lazy_sphere_blocked);
-        c.sphere_fifo.note_full(lazy_sphere_blocked);
-        c.triangle_selector.add_blocked_undecided(lazy_undecided);
-        c.psi.add_starved(rp.stats().starved_cycles - rp_starved0);
+        c.sphere_selector.add_blocked(lazy_sphere_blocked - j.sphere_blocked);
+        c.sphere_fifo.note_full(lazy_sphere_blocked - j.sphere_blocked);
+        c.triangle_selector.add_blocked_undecided(lazy_undecided - j.undecided);
+        c.psi.add_starved(rp.stats().starved_cycles - j.starved);
+    };
+    // An individual ICC whose sphere side has run dry (Sphere FIFO empty,
+    // nothing in the PSI, every sphere received decided) is in the state the
+    // shared side is in when that has run dry too: it rejoins it, and is
+    // stepped with it again until its Decoder holds next.
+    auto may_rejoin = [&](std::uint32_t k) {
+        const Icc& c = *active[k];
+        return c.sphere_fifo.empty() && c.psi.drained() && !c.psi.stuck() && rf.empty() && rp.drained() &&
+               c.decoder.decided() == rd.decided();
     };
     auto first_tri = [&](std::uint32_t sphere) { return sphere_memory.peek(sphere).first_tri; };
     auto decided_of = [&](std::size_t k) { return role[k] == ref ? rd.decided() : active[k]->decoder.decided(); };
@@ -338,7 +360,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         }
 
         // ---- shared Decoder: release hit spheres to the reference ICCs ----
-        std::vector<std::uint32_t> diverged;
+        diverged.clear();
         if (rp.has_output()) {
             const std::uint32_t x = rp.output().sphere;
             std::uint32_t k;
@@ -370,11 +392,21 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
 
         // ---- individual ICCs: their own sphere side -----------------------
         for (std::uint32_t k : diverged) individuals.push_back(k);
-        for (std::uint32_t k : individuals) {
+        for (std::size_t i = 0; i < individuals.size();) {
+            const std::uint32_t k = individuals[i];
             Icc& c = *active[k];
             const bool was_empty = c.first_tri_fifo.empty();
             c.tick_front(s, info, spheres_pending);
             if (was_empty && !c.first_tri_fifo.empty()) waiting.push({c.first_tri_fifo.front().first, k});
+            if (may_rejoin(k)) {  // (the order of `individuals` changes no figure)
+                role[k] = ref;
+                ++n_ref;
+                joined[k] = joined_now();
+                individuals[i] = individuals.back();
+                individuals.pop_back();
+                continue;
+            }
+            ++i;
         }
 
         // ---- Triangle FIFOs full at the start of the next cycle ----------

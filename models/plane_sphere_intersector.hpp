@@ -5,6 +5,7 @@
 // result the whole pipe holds (no stage advances, nothing is issued).
 #pragma once
 
+#include <algorithm>
 #include <vector>
 
 #include "fifo.hpp"
@@ -51,6 +52,7 @@ public:
         hits_ = hits;
         pairless_ = pairless;
         cursor_ = run_cursor_ = 0;
+        next_sphere_ = 0;
         group_spheres_ = 0;
     }
     // End of a pass: figures that follow from the spheres tested.
@@ -67,6 +69,9 @@ public:
         --count_;
     }
     bool empty() const { return count_ == 0; }
+    // Nothing in flight and free to issue: the state every pipe of the same
+    // stream reaches when its input runs dry.
+    bool drained() const { return count_ == 0 && t_ >= next_issue_; }
     std::size_t in_flight() const { return count_; }
     std::uint64_t local_time() const { return t_; }
     std::uint32_t batches() const { return batches_; }
@@ -84,7 +89,17 @@ public:
         t_ = o.t_;
         next_issue_ = o.next_issue_;
         group_spheres_ = o.group_spheres_;
-        cursor_ = run_cursor_ = 0;
+        // (the cursors start at the first sphere in flight, or the next to come)
+        const std::uint32_t from = count_ ? ring_[head_].sphere : o.next_sphere_;
+        next_sphere_ = o.next_sphere_;
+        cursor_ = std::size_t(std::lower_bound(hits_->begin(), hits_->end(), from,
+                                               [](const SphereHitRec& h, std::uint32_t x) { return h.sphere < x; }) -
+                              hits_->begin());
+        run_cursor_ = 0;
+        if (pairless_)
+            run_cursor_ = std::size_t(std::lower_bound(pairless_->begin(), pairless_->end(), from,
+                                                       [](const SphereRun& r, std::uint32_t x) { return r.end() <= x; }) -
+                                      pairless_->begin());
         for (std::size_t i = 0, j = head_; i < count_; ++i, j = j + 1 == ring_.size() ? 0 : j + 1) fill(ring_[j]);
     }
     // Steady streaming (one sphere in and one result out per cycle, one batch
@@ -97,6 +112,7 @@ public:
             tail_ = tail_ + 1 == ring_.size() ? 0 : tail_ + 1;
             ++count_;
             r.sphere = std::uint32_t(next + j);
+            next_sphere_ = r.sphere + 1;
             r.rows = r.cols = 0;
             r.cut = false;
             r.ready = t_ + j + params_.stages;
@@ -112,6 +128,7 @@ public:
         }
         t_ += n;
         next_issue_ = t_;
+        next_sphere_ = std::uint32_t(next + n);
         group_spheres_ += n;
     }
 
@@ -135,6 +152,7 @@ public:
             tail_ = tail_ + 1 == ring_.size() ? 0 : tail_ + 1;
             ++count_;
             r.sphere = in.front();
+            next_sphere_ = r.sphere + 1;
             in.pop();
             fill(r);
             r.ready = t_ + batches_ - 1 + params_.stages;
@@ -176,6 +194,7 @@ private:
     const std::vector<SphereHitRec>* hits_ = nullptr;
     const std::vector<SphereRun>* pairless_ = nullptr;
     std::size_t cursor_ = 0, run_cursor_ = 0;
+    std::uint32_t next_sphere_ = 0;  // the sphere after the last one issued
     std::uint64_t group_spheres_ = 0;
     bool stuck_ = false;
     Stats stats_;
