@@ -192,15 +192,13 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         // The RTI's tests, all at once: the nearest hit does not depend on their order.
         std::uint64_t nhits = 0;
         GroupUnit& unit = icc.unit();
-        for (std::uint64_t rm = computes ? masks.rows : 0; rm; rm &= rm - 1) {
+        double t[64];
+        for (std::uint64_t rm = computes && masks.cols ? masks.rows : 0; rm; rm &= rm - 1) {
             const std::uint32_t v = std::uint32_t(__builtin_ctzll(rm));
-            for (std::uint64_t cm = masks.cols; cm; cm &= cm - 1) {
-                const std::uint32_t h = std::uint32_t(__builtin_ctzll(cm));
-                double t;
-                if (unit.rti(v * n + h, tri, t)) {
-                    ++nhits;
-                    icc.min_distance(buf).update(v * n + h, t, tri);
-                }
+            for (std::uint64_t hm = unit.rti_row(v, masks.cols, tri, t); hm; hm &= hm - 1) {
+                const std::uint32_t h = std::uint32_t(__builtin_ctzll(hm));
+                ++nhits;
+                icc.min_distance(buf).update(v * n + h, t[h], tri);
             }
         }
         icc.rti.account(0, nhits, 0);

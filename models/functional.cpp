@@ -1,10 +1,12 @@
 #include "functional.hpp"
 
 #include <memory>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
 #include "raplas/core/cull.hpp"
+#include "raplas/core/row_hits.hpp"
 
 namespace raplas::model {
 
@@ -34,6 +36,17 @@ public:
             rays_.resize(std::size_t(n_) * n_);
             for (std::uint32_t v = 0; v < n_; ++v)
                 for (std::uint32_t h = 0; h < n_; ++h) rays_[v * n_ + h] = raplas::load(f_.a_, g.ray(h, v));
+            if constexpr (kNative) {  // the directions by component, for rti_row
+                const std::size_t nn = rays_.size();
+                dx_.resize(nn);
+                dy_.resize(nn);
+                dz_.resize(nn);
+                for (std::size_t i = 0; i < nn; ++i) {
+                    dx_[i] = rays_[i].d[0];
+                    dy_[i] = rays_[i].d[1];
+                    dz_[i] = rays_[i].d[2];
+                }
+            }
             std::vector<SphereRun>* runs = f_.pairless_ ? &runs_ : nullptr;
             if (f_.tree_.empty())
                 group_sphere_hits(f_.a_, planes_.data(), n_, g.row_valid, g.col_valid, f_.spheres_, hits_, runs);
@@ -46,12 +59,43 @@ public:
         bool rti(std::uint32_t ray, std::uint32_t tri, double& t) override {
             return ray_hits_triangle(f_.a_, rays_[ray], f_.tris_[tri], t);
         }
+        std::uint64_t rti_row(std::uint32_t v, std::uint64_t cols, std::uint32_t tri, double* t) override {
+            std::uint64_t hit = 0;
+            if constexpr (kNative) {
+                // The group's rays share the origin and (tmin, tmax): the
+                // vectorised row test, as the front end's tracer does.
+                if (rti_of(f_.a_) == RtiTest::division_free) {
+                    using T = typename A::T;
+                    T tt[64];
+                    std::uint8_t hb[64];
+                    const RayA<A>& r0 = rays_[0];
+                    const std::size_t base = std::size_t(v) * n_;
+                    if (!row_hits(r0.o, r0.tmin, r0.tmax, dx_.data() + base, dy_.data() + base, dz_.data() + base, n_,
+                                  f_.tris_[tri], hb, tt))
+                        return 0;
+                    for (std::uint64_t cm = cols; cm; cm &= cm - 1) {
+                        const std::uint32_t h = std::uint32_t(__builtin_ctzll(cm));
+                        if (hb[h]) {
+                            hit |= std::uint64_t(1) << h;
+                            t[h] = static_cast<double>(tt[h]);
+                        }
+                    }
+                    return hit;
+                }
+            }
+            for (std::uint64_t cm = cols; cm; cm &= cm - 1) {
+                const std::uint32_t h = std::uint32_t(__builtin_ctzll(cm));
+                if (rti(v * n_ + h, tri, t[h])) hit |= std::uint64_t(1) << h;
+            }
+            return hit;
+        }
 
     private:
         const ComputeFunctional& f_;
         std::uint32_t n_ = 0;
         std::vector<PlaneA<A>> planes_;
         std::vector<RayA<A>> rays_;
+        std::vector<typename A::T> dx_, dy_, dz_;  // (native formats)
         std::vector<SphereHitRec> hits_;
         std::vector<SphereRun> runs_;
     };
@@ -59,6 +103,7 @@ public:
     std::unique_ptr<GroupUnit> make_unit() const override { return std::make_unique<Unit>(*this); }
 
 private:
+    static constexpr bool kNative = std::is_same_v<A, ArithF32> || std::is_same_v<A, ArithF64>;
     A a_;
     bool pairless_;
     SphereSoA<A> spheres_;
@@ -75,6 +120,7 @@ public:
         const std::vector<SphereHitRec>& sphere_hits() const override { return g_->sphere_hits; }
         const std::vector<SphereRun>& pairless() const override { return g_->pairless; }
         bool rti(std::uint32_t, std::uint32_t, double&) override { return false; }
+        std::uint64_t rti_row(std::uint32_t, std::uint64_t, std::uint32_t, double*) override { return 0; }
 
     private:
         const TraceGroup* g_ = nullptr;
@@ -95,6 +141,14 @@ public:
         *fired_ = true;
         t = 0.0;
         return true;
+    }
+    std::uint64_t rti_row(std::uint32_t v, std::uint64_t cols, std::uint32_t tri, double* t) override {
+        std::uint64_t hit = inner_->rti_row(v, cols, tri, t);
+        if (*fired_ || hit == cols) return hit;
+        const std::uint32_t h = std::uint32_t(__builtin_ctzll(cols & ~hit));  // the first miss, in test order
+        *fired_ = true;
+        t[h] = 0.0;
+        return hit | std::uint64_t(1) << h;
     }
 
 private:

@@ -23,6 +23,10 @@ public:
     virtual const std::vector<SphereRun>& pairless() const = 0;
     // Ray-Triangle Intersector: true and t when ray (v*N+h) hits the triangle.
     virtual bool rti(std::uint32_t ray, std::uint32_t tri, double& t) = 0;
+    // The same test for the rays (v, h) of row v, h in `cols`, against one
+    // triangle, in ascending h: the mask of those that hit, t[h] set for each.
+    // Answers are rti()'s, bit for bit.
+    virtual std::uint64_t rti_row(std::uint32_t v, std::uint64_t cols, std::uint32_t tri, double* t) = 0;
 };
 
 // Fault injection (sim.fault = wrong_rti): `inner` with one wrong answer. The

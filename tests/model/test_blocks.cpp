@@ -24,6 +24,11 @@ public:
         t = ray + 1.0;
         return true;
     }
+    std::uint32_t n = 16;  // group size, for rti_row's ray numbers
+    std::uint64_t rti_row(std::uint32_t v, std::uint64_t cols, std::uint32_t tri, double* t) override {
+        for (std::uint64_t cm = cols; cm; cm &= cm - 1) rti(v * n + std::uint32_t(__builtin_ctzll(cm)), tri, t[__builtin_ctzll(cm)]);
+        return cols;
+    }
 };
 
 }  // namespace
