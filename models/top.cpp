@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <future>
 #include <sstream>
 
 #include "raplas/util/error.hpp"
@@ -429,6 +430,9 @@ void Top::run_passes() {
     std::optional<Host::Pass> unchecked;
     std::uint8_t unchecked_buf = 0;
     std::size_t ci = 0;  // passes simulated so far
+    constexpr std::size_t kNone = ~std::size_t(0);
+    std::future<void> ahead;  // the next pass's preload, running
+    std::size_t ahead_pass = kNone;
     for (std::size_t i = 0;; ++i) {
         if (i == passes.size()) {
             if (planned_all) break;
@@ -459,7 +463,20 @@ void Top::run_passes() {
             since_sync_ += c;
         } else {
             if (vcd_) vcd_->pass = std::uint32_t(i);
-            preload(pass, buf);
+            if (ahead.valid()) ahead.get();
+            if (ahead_pass != i) preload(pass, buf);
+            // The next pass's groups are loaded into the other buffer (their
+            // plane tests computed) on other threads while this pass runs:
+            // only without overlapped passes (that buffer is then idle), and
+            // only when the groups are there already (it never waits for the
+            // front end). Nothing but the wall time changes.
+            ahead_pass = kNone;
+            if (!cfg_.overlap_passes && ci < chosen.size() && chosen[ci] < passes.size() && chosen[ci] % 2 != buf &&
+                groups_.has(passes[chosen[ci]].end)) {
+                ahead_pass = chosen[ci];
+                ahead = std::async(std::launch::async,
+                                   [this, next = passes[ahead_pass], nb = std::uint8_t(1 - buf)] { preload(next, nb); });
+            }
             c = event_mode_ ? run_pass_event(pass, buf) : run_pass(pass, buf);
             if (!error_.empty()) break;  // the watchdog fired
             pass_len_ = c;

@@ -130,6 +130,14 @@ bool GroupStream::wait_for(std::size_t end) {
     });
 }
 
+bool GroupStream::has(std::size_t end) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (end > free_point_ + window_ || failure_) return false;
+    for (std::size_t i = free_point_; i < end; ++i)
+        if (!ready_[i % window_]) return false;
+    return true;
+}
+
 const TraceGroup& GroupStream::group(std::size_t i) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (i < free_point_ || i >= free_point_ + window_ || !ready_[i % window_])

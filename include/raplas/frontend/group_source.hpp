@@ -34,6 +34,8 @@ public:
     // Waits until every group below `end` is there; false when the source
     // stopped first. Never throws (as wait_total).
     virtual bool wait_for(std::size_t end) = 0;
+    // Whether every group below `end` is there now (never waits).
+    virtual bool has(std::size_t end) = 0;
     // Group i: waited for, and not yet released. The reference stays valid
     // until the group is released.
     virtual const TraceGroup& group(std::size_t i) = 0;
@@ -63,6 +65,7 @@ public:
     bool wait_total() override { return true; }
     std::uint64_t total_groups() override { return t_.groups.size(); }
     bool wait_for(std::size_t end) override { return end <= t_.groups.size(); }
+    bool has(std::size_t end) override { return end <= t_.groups.size(); }
     const TraceGroup& group(std::size_t i) override { return t_.groups.at(i); }
 
 protected:
@@ -120,6 +123,7 @@ public:
     bool wait_total() override;
     std::uint64_t total_groups() override;
     bool wait_for(std::size_t end) override;
+    bool has(std::size_t end) override;
     const TraceGroup& group(std::size_t i) override;
     std::string failure_message() override;
     // The model stopped: waiting workers throw Cancelled.
