@@ -30,7 +30,6 @@
 // scenes, ICC counts, FIFO depths and policies (tests/equivalence_modes.py).
 #include <algorithm>
 #include <deque>
-#include <queue>
 
 #include "top.hpp"
 
@@ -83,35 +82,19 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     // Spheres every ICC's Decoder queues, in sphere order (used for the
     // reference ICCs): its hit spheres and, under icc.triangle_select = any,
     // its pair-less spheres (masks 0: their triangles give no pair). Each
-    // ICC's are read through a cursor over its two lists; a heap orders the
-    // ICCs by their next kept sphere (key: sphere << 32 | ICC).
-    constexpr std::uint32_t kNone = ~std::uint32_t(0);
+    // ICC's are read through a cursor over its two lists; `kept_at` finds the
+    // ICCs by their next kept sphere.
     const bool keep_pairless = cfg_.icc.decoder.select == TriangleSelect::any;
     std::vector<KeptSpheres> kept(na);
-    std::vector<std::uint64_t> heap;
-    heap.reserve(na);
+    BucketQueue& kept_at = kept_queue_;
+    kept_at.reset(sphere_memory.size(), na);
     for (std::uint32_t k = 0; k < na; ++k) {
         kept[k] = KeptSpheres(active[k]->unit().sphere_hits(), keep_pairless ? &active[k]->unit().pairless() : nullptr);
-        if (kept[k].next()) heap.push_back(std::uint64_t(kept[k].sphere) << 32 | k);
+        if (kept[k].next()) kept_at.push(kept[k].sphere, k);
     }
-    std::make_heap(heap.begin(), heap.end(), std::greater<std::uint64_t>());
-    auto next_kept = [&] { return heap.empty() ? kNone : std::uint32_t(heap.front() >> 32); };
-    // Takes the ICC with the smallest next kept sphere off the heap, moves its cursor on.
-    auto pop_kept = [&](std::uint32_t& k, std::uint64_t& rows, std::uint64_t& cols) {
-        std::pop_heap(heap.begin(), heap.end(), std::greater<std::uint64_t>());
-        k = std::uint32_t(heap.back() & 0xffffffffu);
-        heap.pop_back();
-        KeptSpheres& e = kept[k];
-        rows = e.rows;
-        cols = e.cols;
-        if (e.next()) {
-            heap.push_back(std::uint64_t(e.sphere) << 32 | k);
-            std::push_heap(heap.begin(), heap.end(), std::greater<std::uint64_t>());
-        }
-    };
     // ICCs waiting for the triangle stream to reach their head sphere, by its first triangle.
-    using Wait = std::pair<std::uint32_t, std::uint32_t>;
-    std::priority_queue<Wait, std::vector<Wait>, std::greater<Wait>> waiting;
+    BucketQueue& waiting = wait_queue_;
+    waiting.reset(triangle_memory.size(), na);
     std::vector<std::uint32_t> selecting, individuals, full_now, diverged;
     // ICCs whose Triangle FIFO is full at the start of every cycle up to `second`.
     std::vector<std::pair<std::uint32_t, std::uint64_t>> full_until;
@@ -263,7 +246,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
             std::uint64_t d = 0;
             if (t_flows) {
                 d = triangle_link.end() - tp;
-                if (!waiting.empty()) d = std::min<std::uint64_t>(d, waiting.top().first - tp);
+                if (!waiting.empty()) d = std::min<std::uint64_t>(d, waiting.min_key() - tp);
             } else if (!full_now.empty()) {
                 for (std::uint32_t k : full_now) t_held = t_held || tri_blocker(k);
                 std::uint64_t popped = ~std::uint64_t(0);
@@ -274,7 +257,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
             }
             if (s_steady) {
                 d = std::min<std::uint64_t>(d, sphere_link.end() - sp);
-                if (next_kept() != kNone) d = std::min<std::uint64_t>(d, next_kept() - rp.output().sphere);
+                if (!kept_at.empty()) d = std::min<std::uint64_t>(d, kept_at.min_key() - rp.output().sphere);
             }
             if ((t_flows || t_held) && (s_steady || s_done) && d > 1) {
                 --d;  // the event cycle itself is stepped normally
@@ -339,16 +322,14 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
 
         // ---- triangle selection ------------------------------------------
         if (t >= 0) {
-            while (!waiting.empty() && waiting.top().first <= std::uint32_t(t)) {
-                selecting.push_back(waiting.top().second);
-                waiting.pop();
-            }
+            while (!waiting.empty() && waiting.min_key() <= std::uint32_t(t))
+                waiting.pop_min([&](std::uint32_t k) { selecting.push_back(k); });
             for (std::size_t i = 0; i < selecting.size();) {
                 const std::uint32_t k = selecting[i];
                 select(k, std::uint32_t(t), cycle);
                 const Fifo<FirstTriEntry>& f = active[k]->first_tri_fifo;
                 if (f.empty() || f.front().sphere != ts) {
-                    if (!f.empty()) waiting.push({f.front().first, k});
+                    if (!f.empty()) waiting.push(f.front().first, k);
                     selecting[i] = selecting.back();
                     selecting.pop_back();
                 } else {
@@ -361,26 +342,33 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         diverged.clear();
         if (rp.has_output()) {
             const std::uint32_t x = rp.output().sphere;
-            std::uint32_t k;
-            std::uint64_t rows, cols;
-            while (next_kept() < x) pop_kept(k, rows, cols);  // (none: each sphere is decided once, in order)
-            while (next_kept() == x) {
-                pop_kept(k, rows, cols);
-                if (role[k] != ref) continue;
-                Icc& c = *active[k];
-                if (c.planeid_fifo.full() || c.first_tri_fifo.full()) {
-                    adopt_reference(k);  // its Decoder holds: from now on it has its own sphere side
-                    role[k] = individual;
-                    --n_ref;
-                    diverged.push_back(k);
-                    continue;
-                }
-                const bool was_empty = c.first_tri_fifo.empty();
-                c.planeid_fifo.push({rows, cols});
-                c.first_tri_fifo.push({x, first_tri(x), sphere_memory.peek(x).tri_count});
-                c.decoder.note_hit(!(rows && cols));
-                if (was_empty) waiting.push({first_tri(x), k});
-            }
+            // Moves ICC k's cursor on, to its next kept sphere; returns the masks of this one.
+            auto advance = [&](std::uint32_t k) {
+                KeptSpheres& e = kept[k];
+                const PlaneIdEntry masks{e.rows, e.cols};
+                if (e.next()) kept_at.push(e.sphere, k);
+                return masks;
+            };
+            while (!kept_at.empty() && kept_at.min_key() < x)  // (none: each sphere is decided once, in order)
+                kept_at.pop_min([&](std::uint32_t k) { advance(k); });
+            if (!kept_at.empty() && kept_at.min_key() == x)
+                kept_at.pop_min([&](std::uint32_t k) {
+                    const PlaneIdEntry masks = advance(k);
+                    if (role[k] != ref) return;
+                    Icc& c = *active[k];
+                    if (c.planeid_fifo.full() || c.first_tri_fifo.full()) {
+                        adopt_reference(k);  // its Decoder holds: it has its own sphere side until it rejoins
+                        role[k] = individual;
+                        --n_ref;
+                        diverged.push_back(k);
+                        return;
+                    }
+                    const bool was_empty = c.first_tri_fifo.empty();
+                    c.planeid_fifo.push(masks);
+                    c.first_tri_fifo.push({x, first_tri(x), sphere_memory.peek(x).tri_count});
+                    c.decoder.note_hit(!(masks.rows && masks.cols));
+                    if (was_empty) waiting.push(first_tri(x), k);
+                });
         }
         tick_shared_side(spheres_pending);
         if (s >= 0) {
@@ -395,7 +383,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
             Icc& c = *active[k];
             const bool was_empty = c.first_tri_fifo.empty();
             c.tick_front(s, info, spheres_pending);
-            if (was_empty && !c.first_tri_fifo.empty()) waiting.push({c.first_tri_fifo.front().first, k});
+            if (was_empty && !c.first_tri_fifo.empty()) waiting.push(c.first_tri_fifo.front().first, k);
             if (may_rejoin(k)) {  // (the order of `individuals` changes no figure)
                 role[k] = ref;
                 ++n_ref;

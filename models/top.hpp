@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "bucket_queue.hpp"
 #include "config.hpp"
 #include "host.hpp"
 #include "icc.hpp"
@@ -183,6 +184,7 @@ private:
         std::deque<std::uint64_t> starts;
     };
     std::vector<EventBack> event_back_;
+    BucketQueue kept_queue_, wait_queue_;  // event mode: ICCs by next kept sphere, by the triangle they wait for
     static void shift_back(EventBack& b, std::uint64_t by);
     // The shared sphere side at the start of a pass with groups of size n,
     // and one cycle of it after the link decided (the sphere sent, if any,

@@ -74,6 +74,9 @@ public:
         if (tri + 1 == f.first + f.count) {
             plane_ids.pop();
             first_ids.pop();
+            // (the next head was queued long ago: fetch it while the stream moves on)
+            __builtin_prefetch(&plane_ids.front());
+            __builtin_prefetch(&first_ids.front());
         }
         return p;
     }

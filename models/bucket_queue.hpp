@@ -1,0 +1,57 @@
+// The event mode's queue of ICCs keyed by a position in a stream that only
+// moves forward (a sphere or a triangle index): each ICC is in it at most
+// once, and the smallest key and the ICCs at it are found in amortised
+// constant time (one bucket per key, scanned once per pass). The order of the
+// ICCs at one key is unspecified: nothing the model computes depends on it.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace raplas::model {
+
+class BucketQueue {
+public:
+    static constexpr std::uint32_t kNone = ~std::uint32_t(0);
+    // Empty, for keys below `keys` and ICCs below `iccs`.
+    void reset(std::size_t keys, std::size_t iccs) {
+        head_.assign(keys + 1, kNone);
+        next_.assign(iccs, kNone);
+        min_ = std::uint32_t(keys);
+        size_ = 0;
+    }
+    bool empty() const { return size_ == 0; }
+    void push(std::uint32_t key, std::uint32_t icc) {
+        next_[icc] = head_[key];
+        head_[key] = icc;
+        if (key < min_) min_ = key;
+        ++size_;
+    }
+    // The smallest key (the queue must not be empty).
+    std::uint32_t min_key() {
+        while (head_[min_] == kNone) ++min_;
+        return min_;
+    }
+    // Takes every ICC at the smallest key out and calls f(icc) for each; f
+    // may push (at larger keys).
+    template <class F>
+    void pop_min(F&& f) {
+        const std::uint32_t key = min_key();
+        std::uint32_t k = head_[key];
+        head_[key] = kNone;
+        while (k != kNone) {
+            const std::uint32_t next = next_[k];
+            --size_;
+            f(k);
+            k = next;
+        }
+    }
+
+private:
+    std::vector<std::uint32_t> head_;  // per key, the first ICC at it; next_ links the others
+    std::vector<std::uint32_t> next_;
+    std::uint32_t min_ = 0;  // no key below it is used
+    std::size_t size_ = 0;
+};
+
+}  // namespace raplas::model
