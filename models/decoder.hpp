@@ -97,6 +97,12 @@ public:
         stats_.pairless += pairless;
     }
     std::uint32_t decided() const { return decided_; }
+    // n cycles of tick() holding (a result to queue, a FIFO full).
+    void note_held(std::uint64_t n, Fifo<PlaneIdEntry>& plane_ids, Fifo<FirstTriEntry>& first_ids) {
+        stats_.full_cycles += n;
+        if (plane_ids.full()) plane_ids.note_full(n);
+        if (first_ids.full()) first_ids.note_full(n);
+    }
 
     // Returns true when the PSI must hold this cycle.
     template <class SphereInfo>

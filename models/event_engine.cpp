@@ -229,18 +229,30 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
 
         // ---- skip cycles in which only stream positions change -----------
         // The sphere side either streams steadily (a sphere in and a decision
-        // out every cycle, every ICC on the shared pipeline) or is finished
-        // (every sphere decided, nothing in flight, in every ICC). The triangle stream either flows (no ICC selecting, no
-        // full Triangle FIFO) up to the next waiting ICC's triangles, or is
-        // held by full Triangle FIFOs until the first of them is popped.
+        // out every cycle, every ICC on the shared pipeline), or is finished
+        // (every sphere decided, nothing in flight, in every ICC), or is
+        // frozen: every individual ICC's Decoder holds (its PlaneID or
+        // First-Triangle-ID FIFO is full), one of them has a full Sphere FIFO
+        // that stops the sphere stream, and the shared side has run dry; only
+        // a triangle selection can change that. The triangle stream either
+        // flows (no ICC selecting, no full Triangle FIFO) up to the next
+        // waiting ICC's triangles, or is held by full Triangle FIFOs until the
+        // first of them is popped.
         if (t_has && (n_ref == 0 || rd.decided() > ts)) {
             const bool s_steady = individuals.empty() && n_ref > 0 && s_has && rp.batches() == 1 &&
                                   rp.in_flight() == stages && rp.has_output() && !rf.empty() && !rf.full();
             bool s_done = !s_has && rf.empty() && rp.in_flight() == 0;
+            bool s_frozen = s_has && !individuals.empty() && rf.empty() && rp.drained(), stops_spheres = false;
+            std::uint32_t min_decided = n_ref ? rd.decided() : ~std::uint32_t(0);
             for (std::uint32_t k : individuals) {
                 const Icc& c = *active[k];
-                s_done = s_done && c.sphere_fifo.empty() && c.psi.in_flight() == 0 && c.decoder.decided() > ts;
+                const std::uint32_t dec = c.decoder.decided();
+                s_done = s_done && c.sphere_fifo.empty() && c.psi.in_flight() == 0 && dec > ts;
+                s_frozen = s_frozen && dec > ts && c.decoder_holds() && !c.psi.stuck();
+                stops_spheres = stops_spheres || c.sphere_fifo.full();
+                min_decided = std::min(min_decided, dec);
             }
+            s_frozen = s_frozen && stops_spheres;
             const bool t_flows = full_now.empty() && selecting.empty();
             bool t_held = false;
             std::uint64_t d = 0;
@@ -259,7 +271,9 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 d = std::min<std::uint64_t>(d, sphere_link.end() - sp);
                 if (!kept_at.empty()) d = std::min<std::uint64_t>(d, kept_at.min_key() - rp.output().sphere);
             }
-            if ((t_flows || t_held) && (s_steady || s_done) && d > 1) {
+            if (s_frozen && t_flows && min_decided < sphere_memory.size())  // (no decision while frozen)
+                d = std::min<std::uint64_t>(d, first_tri(min_decided) - tp);
+            if ((t_flows || t_held) && (s_steady || s_done || s_frozen) && d > 1) {
                 --d;  // the event cycle itself is stepped normally
                 if (s_steady) {
                     sphere_memory.read_many(d);
@@ -267,6 +281,11 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                     rp.fast_forward(d, rf.front());
                     rf.advance(std::uint32_t(d));
                     rd.set_decided(rd.decided() + std::uint32_t(d));
+                } else if (s_frozen) {
+                    sphere_link.stalled(d);
+                    rp.add_starved(d);
+                    rp.idle(d);
+                    for (std::uint32_t k : individuals) active[k]->hold_front(d);
                 } else {
                     sphere_link.idle(d);
                     rp.idle(d);

@@ -150,6 +150,23 @@ public:
         psi.tick(sphere_fifo, hold, spheres_pending || !sphere_fifo.empty());
         if (sphere >= 0) sphere_selector.receive(true, std::uint32_t(sphere), sphere_fifo);
     }
+    // The Decoder holds this cycle: its PSI's result is to be queued and the
+    // PlaneID or First-Triangle-ID FIFO is full.
+    bool decoder_holds() const {
+        return psi.has_output() && queued(psi.output(), params_.decoder.select) &&
+               (planeid_fifo.full() || first_tri_fifo.full());
+    }
+    // n cycles of tick_front with no sphere and the Decoder holding
+    // (decoder_holds() stays true): its counters, and those of a full Sphere
+    // FIFO stopping the sphere stream (event-driven simulation).
+    void hold_front(std::uint64_t n) {
+        decoder.note_held(n, planeid_fifo, first_tri_fifo);
+        psi.add_stalled(n);
+        if (!sphere_ready()) {
+            sphere_selector.add_blocked(n);
+            sphere_fifo.note_full(n);
+        }
+    }
     bool back_idle() const { return rti.empty() && ray_data_fetcher.idle() && triangle_fifo.empty(); }
     // The unit of this pass's group (and of buffer `buf`).
     const GroupUnit& unit() const { return *units_[buf_]; }

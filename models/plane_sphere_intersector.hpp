@@ -78,6 +78,7 @@ public:
     std::uint64_t ready_of_front() const { return ring_[head_].ready; }
     std::uint64_t spheres_this_group() const { return group_spheres_; }
     void add_starved(std::uint64_t cycles) { stats_.starved_cycles += cycles; }
+    void add_stalled(std::uint64_t cycles) { stats_.stall_cycles += cycles; }
 
     // Event-driven simulation: take over the pipe timing of `o` (same
     // stream, never held) and fill in this group's own hit masks.
