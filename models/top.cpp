@@ -11,6 +11,7 @@
 
 #include "raplas/util/error.hpp"
 #include "raplas/util/parallel.hpp"
+#include "raplas/util/priority.hpp"
 
 namespace raplas::model {
 
@@ -474,8 +475,10 @@ void Top::run_passes() {
             if (!cfg_.overlap_passes && ci < chosen.size() && chosen[ci] < passes.size() && chosen[ci] % 2 != buf &&
                 groups_.has(passes[chosen[ci]].end)) {
                 ahead_pass = chosen[ci];
-                ahead = std::async(std::launch::async,
-                                   [this, next = passes[ahead_pass], nb = std::uint8_t(1 - buf)] { preload(next, nb); });
+                ahead = std::async(std::launch::async, [this, next = passes[ahead_pass], nb = std::uint8_t(1 - buf)] {
+                    lower_thread_priority(kFeederNice);
+                    preload(next, nb);
+                });
             }
             c = event_mode_ ? run_pass_event(pass, buf) : run_pass(pass, buf);
             if (!error_.empty()) break;  // the watchdog fired

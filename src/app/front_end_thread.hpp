@@ -9,11 +9,12 @@
 
 #include "raplas/frontend/group_source.hpp"
 #include "raplas/util/error.hpp"
+#include "raplas/util/priority.hpp"
 
 namespace raplas {
 
 // The front end of a streamed run, on its own thread (which starts
-// the worker threads): its failure is kept as a message for the command and
+// the worker threads), kFeederNice below the model's: its failure is kept as a message for the command and
 // handed to the stream, whose waits then stop. Joined on destruction, the
 // stream cancelled first so that no worker waits for room.
 class FrontEndThread {
@@ -29,6 +30,7 @@ public:
     void start(GroupStream& stream, std::function<void()> body) {
         stream_ = &stream;
         thread_ = std::thread([this, body = std::move(body)] {
+            lower_thread_priority(kFeederNice);  // (its workers inherit it)
             try {
                 body();
             } catch (const GroupStream::Cancelled&) {
