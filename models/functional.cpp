@@ -36,17 +36,7 @@ public:
             rays_.resize(std::size_t(n_) * n_);
             for (std::uint32_t v = 0; v < n_; ++v)
                 for (std::uint32_t h = 0; h < n_; ++h) rays_[v * n_ + h] = raplas::load(f_.a_, g.ray(h, v));
-            if constexpr (kNative) {  // the directions by component, for rti_row
-                const std::size_t nn = rays_.size();
-                dx_.resize(nn);
-                dy_.resize(nn);
-                dz_.resize(nn);
-                for (std::size_t i = 0; i < nn; ++i) {
-                    dx_[i] = rays_[i].d[0];
-                    dy_[i] = rays_[i].d[1];
-                    dz_[i] = rays_[i].d[2];
-                }
-            }
+            if constexpr (kNative) directions_by_component(rays_, dx_, dy_, dz_);  // for rti_row
             std::vector<SphereRun>* runs = f_.pairless_ ? &runs_ : nullptr;
             if (f_.tree_.empty())
                 group_sphere_hits(f_.a_, planes_.data(), n_, g.row_valid, g.col_valid, f_.spheres_, hits_, runs);

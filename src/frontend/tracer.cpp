@@ -118,19 +118,11 @@ struct ImplT final : Tracer::Impl {
     void triangles_by_row(const RayGroup& g, const std::vector<RayA<A>>& rays, const std::vector<SphereHitRec>& list,
                           GroupResult& out) const {
         const std::uint32_t n = g.n;
-        const std::size_t nn = std::size_t(n) * n;
         thread_local std::vector<T> dx, dy, dz, tt;
         thread_local std::vector<std::uint8_t> hit;
-        dx.resize(nn);
-        dy.resize(nn);
-        dz.resize(nn);
+        directions_by_component(rays, dx, dy, dz);
         tt.resize(n);
         hit.resize(n);
-        for (std::size_t i = 0; i < nn; ++i) {
-            dx[i] = rays[i].d[0];
-            dy[i] = rays[i].d[1];
-            dz[i] = rays[i].d[2];
-        }
         const RayA<A>& r0 = rays[0];
         std::uint8_t* hb = hit.data();
         for (const SphereHitRec& rec : list) {

@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "raplas/core/intersect.hpp"
 
@@ -17,5 +18,19 @@ bool row_hits(const float o[3], float tmin, float tmax, const float* dx, const f
               std::size_t count, const TriA<ArithF32>& tr, std::uint8_t* hit, float* t);
 bool row_hits(const double o[3], double tmin, double tmax, const double* dx, const double* dy, const double* dz,
               std::size_t count, const TriA<ArithF64>& tr, std::uint8_t* hit, double* t);
+
+// The rays' directions by component (dx[i], dy[i], dz[i]), as row_hits takes them.
+template <class A>
+void directions_by_component(const std::vector<RayA<A>>& rays, std::vector<typename A::T>& dx,
+                             std::vector<typename A::T>& dy, std::vector<typename A::T>& dz) {
+    dx.resize(rays.size());
+    dy.resize(rays.size());
+    dz.resize(rays.size());
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        dx[i] = rays[i].d[0];
+        dy[i] = rays[i].d[1];
+        dz[i] = rays[i].d[2];
+    }
+}
 
 }  // namespace raplas
