@@ -22,7 +22,7 @@ std::vector<MemoryItem> model_memory(const SimConfig& c, const TraceShape& t) {
     // Every ICC: its FIFOs at full depth (the Sphere FIFO is a counter), RTI
     // and PSI pipelines, statistics and SystemC bookkeeping. ICCs that get a
     // group (at most one per group): Min-distance Memory and the group
-    // unit's planes, rays and sphere-hit list.
+    // unit's planes, rays (and their directions by component) and sphere-hit list.
     const double fifo = double(c.icc.triangle_fifo.depth) * sizeof(TriWork) +
                         double(c.icc.planeid_fifo.depth) * (sizeof(PlaneIdEntry) + sizeof(FirstTriEntry));
     const double per_icc = sizeof(Icc) + kSystemCPerIcc + double(c.icc.rti.stages) * (c.icc.rti.pipes * sizeof(RtiOp) + 4) +
@@ -34,7 +34,7 @@ std::vector<MemoryItem> model_memory(const SimConfig& c, const TraceShape& t) {
     const double runs_per_group = groups > 0 && any ? t.pairless_runs / groups : 0;
     const double pairless_per_group = groups > 0 && any ? t.pairless_spheres / groups : 0;
     if (compute)
-        per_active += 2.0 * n * 4 * fb + double(n) * n * 8 * fb + 1.5 * hits_per_group * sizeof(SphereHitRec) +
+        per_active += 2.0 * n * 4 * fb + double(n) * n * (8 + 3) * fb + 1.5 * hits_per_group * sizeof(SphereHitRec) +
                       1.5 * runs_per_group * sizeof(SphereRun);
     const double active = std::min(double(c.iccs), std::max(groups, 1.0));
     std::vector<MemoryItem> items;
@@ -46,7 +46,8 @@ std::vector<MemoryItem> model_memory(const SimConfig& c, const TraceShape& t) {
     // format; event mode: every ICC's sphere hits of a pass in one list.
     double shared = double(t.spheres) * (sizeof(SphereRecord)) + double(t.triangles) * (sizeof(TriangleRec) + 4);
     if (compute) shared += double(t.spheres) * 4 * fb + double(t.triangles) * 12 * fb;
-    if (c.mode == SimMode::event) shared += active * (hits_per_group + pairless_per_group) * 24;  // queued-sphere events
+    if (c.mode == SimMode::event)  // queued-sphere events; the bucket queues, one entry per sphere and triangle
+        shared += active * (hits_per_group + pairless_per_group) * 24 + double(t.spheres + t.triangles) * 4;
     items.push_back({"stream memories (" + std::to_string(t.spheres) + " spheres, " + std::to_string(t.triangles) +
                          " triangles)",
                      shared});
