@@ -112,9 +112,7 @@ public:
         const PsiResult& r = psi.output();
         if (queued(r, params_.select)) {
             if (plane_ids.full() || first_ids.full()) {
-                ++stats_.full_cycles;
-                if (plane_ids.full()) plane_ids.note_full();
-                if (first_ids.full()) first_ids.note_full();
+                note_held(1, plane_ids, first_ids);
                 return true;
             }
             plane_ids.push({r.rows, r.cols});

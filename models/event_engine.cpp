@@ -133,8 +133,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         c.sphere_fifo.adopt(rf, rf.stats().pushes - j.pushes, ref_max);
         c.psi.adopt(rp);
         c.decoder.set_decided(rd.decided());
-        c.sphere_selector.add_blocked(lazy_sphere_blocked - j.sphere_blocked);
-        c.sphere_fifo.note_full(lazy_sphere_blocked - j.sphere_blocked);
+        c.note_sphere_blocked(lazy_sphere_blocked - j.sphere_blocked);
         c.triangle_selector.add_blocked_undecided(lazy_undecided - j.undecided);
         c.psi.add_starved(rp.stats().starved_cycles - j.starved);
     };

@@ -117,7 +117,7 @@ public:
     const TraceGroup* group() const { return group_; }
 
     bool sphere_ready() const { return sphere_selector.ready(active(), sphere_fifo); }
-    void note_sphere_blocked() { sphere_selector.note_blocked(sphere_fifo); }
+    void note_sphere_blocked(std::uint64_t cycles = 1) { sphere_selector.note_blocked(sphere_fifo, cycles); }
     bool triangle_ready(std::uint32_t sphere) const {
         return triangle_selector.ready(active(), sphere, decoder.decided(), first_tri_fifo, triangle_fifo);
     }
@@ -162,10 +162,7 @@ public:
     void hold_front(std::uint64_t n) {
         decoder.note_held(n, planeid_fifo, first_tri_fifo);
         psi.add_stalled(n);
-        if (!sphere_ready()) {
-            sphere_selector.add_blocked(n);
-            sphere_fifo.note_full(n);
-        }
+        if (!sphere_ready()) note_sphere_blocked(n);
     }
     bool back_idle() const { return rti.empty() && ray_data_fetcher.idle() && triangle_fifo.empty(); }
     // The unit of this pass's group (and of buffer `buf`).

@@ -17,16 +17,16 @@ public:
     SphereSelector(sc_core::sc_module_name n, const Params& p = {}) : sc_core::sc_module(n), params_(p) {}
 
     bool ready(bool active, const SphereFifo& fifo) const { return !active || !fifo.full(); }
-    void note_blocked(SphereFifo& fifo) {
-        ++stats_.blocked_link_cycles;
-        fifo.note_full();
+    // `cycles` cycles in which this ICC's full Sphere FIFO stopped the broadcast.
+    void note_blocked(SphereFifo& fifo, std::uint64_t cycles = 1) {
+        stats_.blocked_link_cycles += cycles;
+        fifo.note_full(cycles);
     }
     void receive(bool active, std::uint32_t sphere, SphereFifo& fifo) {
         if (!active) return;
         fifo.push(sphere);
     }
     void end_group(std::uint64_t received) { stats_.received += received; }
-    void add_blocked(std::uint64_t cycles) { stats_.blocked_link_cycles += cycles; }
     const Stats& stats() const { return stats_; }
     const Params& params() const { return params_; }
 

@@ -123,16 +123,15 @@ bool GroupStream::wait_for(std::size_t end) {
                            std::to_string(window_) + " groups from group " + std::to_string(free_point_);
         return false;
     }
-    return wait_or_fail(lock, [&] {
-        for (std::size_t i = free_point_; i < end; ++i)
-            if (!ready_[i % window_]) return false;
-        return true;
-    });
+    return wait_or_fail(lock, [&] { return ready_below(end); });
 }
 
 bool GroupStream::has(std::size_t end) {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (end > free_point_ + window_ || failure_) return false;
+    return end <= free_point_ + window_ && !failure_ && ready_below(end);
+}
+
+bool GroupStream::ready_below(std::size_t end) const {
     for (std::size_t i = free_point_; i < end; ++i)
         if (!ready_[i % window_]) return false;
     return true;

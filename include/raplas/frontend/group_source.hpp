@@ -143,6 +143,8 @@ protected:
 private:
     // Front end side: returns once ready, throws Cancelled when the stream stopped.
     void wait_until(std::unique_lock<std::mutex>& lock, const std::function<bool()>& ready);
+    // Every group from the release point to `end` is there (the lock held).
+    bool ready_below(std::size_t end) const;
     // Model side: true once ready, false when the front end failed first.
     bool wait_or_fail(std::unique_lock<std::mutex>& lock, const std::function<bool()>& ready);
 
