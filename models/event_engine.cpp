@@ -175,7 +175,8 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         std::uint64_t nhits = 0;
         GroupUnit& unit = icc.unit();
         double t[64];
-        for (std::uint64_t rm = computes && masks.cols ? masks.rows : 0; rm; rm &= rm - 1) {
+        const bool tests = computes && masks.cols && masks.rows && !unit.rti_certain_miss(masks.rows, masks.cols, tri);
+        for (std::uint64_t rm = tests ? masks.rows : 0; rm; rm &= rm - 1) {
             const std::uint32_t v = std::uint32_t(__builtin_ctzll(rm));
             for (std::uint64_t hm = unit.rti_row(v, masks.cols, tri, t); hm; hm &= hm - 1) {
                 const std::uint32_t h = std::uint32_t(__builtin_ctzll(hm));

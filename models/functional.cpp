@@ -36,7 +36,10 @@ public:
             rays_.resize(std::size_t(n_) * n_);
             for (std::uint32_t v = 0; v < n_; ++v)
                 for (std::uint32_t h = 0; h < n_; ++h) rays_[v * n_ + h] = raplas::load(f_.a_, g.ray(h, v));
-            if constexpr (kNative) directions_by_component(rays_, dx_, dy_, dz_);  // for rti_row
+            if constexpr (kNative) {  // for rti_row and rti_certain_miss
+                directions_by_component(rays_, dx_, dy_, dz_);
+                boxes_.build(dx_, dy_, dz_, n_);
+            }
             std::vector<SphereRun>* runs = f_.pairless_ ? &runs_ : nullptr;
             if (f_.tree_.empty())
                 group_sphere_hits(f_.a_, planes_.data(), n_, g.row_valid, g.col_valid, f_.spheres_, hits_, runs);
@@ -80,12 +83,24 @@ public:
             return hit;
         }
 
+        bool rti_certain_miss(std::uint64_t rows, std::uint64_t cols, std::uint32_t tri) const override {
+            if constexpr (kNative) {
+                if (rti_of(f_.a_) == RtiTest::division_free && boxes_.finite()) {
+                    const RayA<A>& r0 = rays_[0];
+                    return rays_certainly_miss_triangle_native(r0.o, r0.tmin, r0.tmax, boxes_.of(rows, cols),
+                                                               f_.tris_[tri]);
+                }
+            }
+            return false;
+        }
+
     private:
         const ComputeFunctional& f_;
         std::uint32_t n_ = 0;
         std::vector<PlaneA<A>> planes_;
         std::vector<RayA<A>> rays_;
         std::vector<typename A::T> dx_, dy_, dz_;  // (native formats)
+        GroupDirectionBoxes<typename A::T> boxes_;
         std::vector<SphereHitRec> hits_;
         std::vector<SphereRun> runs_;
     };
@@ -111,6 +126,7 @@ public:
         const std::vector<SphereRun>& pairless() const override { return g_->pairless; }
         bool rti(std::uint32_t, std::uint32_t, double&) override { return false; }
         std::uint64_t rti_row(std::uint32_t, std::uint64_t, std::uint32_t, double*) override { return 0; }
+        bool rti_certain_miss(std::uint64_t, std::uint64_t, std::uint32_t) const override { return false; }
 
     private:
         const TraceGroup* g_ = nullptr;
@@ -139,6 +155,10 @@ public:
         *fired_ = true;
         t[h] = 0.0;
         return hit | std::uint64_t(1) << h;
+    }
+    // Until the wrong answer is given, every test is made, so that it goes to the first miss.
+    bool rti_certain_miss(std::uint64_t rows, std::uint64_t cols, std::uint32_t tri) const override {
+        return *fired_ && inner_->rti_certain_miss(rows, cols, tri);
     }
 
 private:

@@ -27,6 +27,9 @@ public:
     // triangle, in ascending h: the mask of those that hit, t[h] set for each.
     // Answers are rti()'s, bit for bit.
     virtual std::uint64_t rti_row(std::uint32_t v, std::uint64_t cols, std::uint32_t tri, double* t) = 0;
+    // True only with a proof that no ray of rows x cols hits the triangle (rti_row would return 0
+    // for every row): the caller may skip those tests. False when it cannot tell.
+    virtual bool rti_certain_miss(std::uint64_t rows, std::uint64_t cols, std::uint32_t tri) const = 0;
 };
 
 // Fault injection (sim.fault = wrong_rti): `inner` with one wrong answer. The

@@ -125,10 +125,17 @@ struct ImplT final : Tracer::Impl {
         hit.resize(n);
         const RayA<A>& r0 = rays[0];
         std::uint8_t* hb = hit.data();
+        thread_local GroupDirectionBoxes<T> boxes;
+        boxes.build(dx, dy, dz, n);
         for (const SphereHitRec& rec : list) {
             const std::uint64_t rows = rec.rows, cols = rec.cols;
             const auto [t0, t1] = triangles_tested(rec, out);
+            // triangles no ray of H x V can hit (a proof) are not tested: same answers, less work
+            DirectionBox<T> box;
+            if (boxes.finite()) box = boxes.of(rows, cols);
             for (std::uint32_t t = t0; t < t1; ++t) {
+                if (boxes.finite() && rays_certainly_miss_triangle_native(r0.o, r0.tmin, r0.tmax, box, tris[t]))
+                    continue;
                 for (std::uint64_t rm = rows; rm; rm &= rm - 1) {
                     const std::size_t v = static_cast<std::size_t>(__builtin_ctzll(rm));
                     const std::size_t base = v * n;

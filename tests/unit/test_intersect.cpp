@@ -596,3 +596,102 @@ void row_kernel_matches_scalar() {
 
 TEST(RowKernel, SameAsRayByRayFloat32) { row_kernel_matches_scalar<float>(); }
 TEST(RowKernel, SameAsRayByRayFloat64) { row_kernel_matches_scalar<double>(); }
+
+// rays_certainly_miss_triangle_native is a proof: whenever it says no ray of a direction box
+// hits, the row kernel (and the ray-by-ray test) finds no hit for any ray in that box. The
+// cases sit on the boundaries where rounding decides: rays through an edge or a vertex
+// perturbed by a few units in the last place, a triangle's far end at t = tmax, an origin on
+// the triangle's plane (t' about 0), rays nearly parallel to the plane; each as a single ray
+// (a box of one direction) and as a small bundle. It must also prove something: most clear
+// misses are certified.
+template <class T>
+void certified_misses_never_hit() {
+    using A = raplas::ArithNative<T>;
+    std::mt19937_64 rng(4242);
+    std::uniform_real_distribution<double> u(-2, 2), w(0, 1);
+    auto v = [&] { return Vec3d{u(rng), u(rng), u(rng)}; };
+    const double ulp = std::is_same_v<T, float> ? 0x1p-23 : 0x1p-52;
+    std::uint64_t certified = 0, hits = 0, clear_misses = 0, clear_certified = 0;
+    for (int it = 0; it < 60000; ++it) {
+        const Vec3d p0 = v(), p1 = v(), p2 = v();
+        raplas::TriA<A> tr;
+        const Vec3d e1 = p1 - p0, e2 = p2 - p0, nn = raplas::cross(e1, e2);
+        for (int i = 0; i < 3; ++i) {
+            const std::size_t k = std::size_t(i);
+            tr.v0[i] = T(p0[k]);
+            tr.e1[i] = T(e1[k]);
+            tr.e2[i] = T(e2[k]);
+            tr.n[i] = T(nn[k]);
+        }
+        const int kind = it % 6;
+        // the target point on the triangle: a vertex, an edge or the inside
+        const double b1 = kind == 0 ? 0.0 : w(rng), b2 = kind == 1 ? 1.0 - b1 : (kind == 0 ? 0.0 : w(rng) * (1 - b1));
+        const Vec3d target = p0 + e1 * b1 + e2 * b2;
+        Vec3d o = v();
+        if (kind == 2) o = p0 + e1 * (w(rng) * 2 - 0.5) + e2 * (w(rng) * 2 - 0.5) + nn * (ulp * u(rng));  // on the plane
+        if (kind == 3) {  // nearly parallel: the origin a hair off the plane, far out along it
+            o = target + (e1 * u(rng) + e2 * u(rng)) * 4.0 + nn * (1e-5 * u(rng));
+        }
+        const Vec3d d0 = target - o;
+        T oo[3] = {T(o.x), T(o.y), T(o.z)};
+        const double len = std::sqrt(raplas::dot(d0, d0));
+        const int bundle = it % 2 == 0 ? 1 : 8;
+        const double spread = kind == 5 ? 1e-3 : ulp * 8;
+        std::vector<T> dx, dy, dz;
+        raplas::DirectionBox<T> box;
+        for (int i = 0; i < 3; ++i) {
+            box.lo[i] = std::numeric_limits<T>::infinity();
+            box.hi[i] = -std::numeric_limits<T>::infinity();
+        }
+        for (int r = 0; r < bundle; ++r) {
+            const Vec3d d = d0 + Vec3d{u(rng), u(rng), u(rng)} * (spread * len * (r == 0 && bundle > 1 ? 0 : 1));
+            const T dd[3] = {T(d.x), T(d.y), T(d.z)};
+            dx.push_back(dd[0]);
+            dy.push_back(dd[1]);
+            dz.push_back(dd[2]);
+            for (int i = 0; i < 3; ++i) {
+                box.lo[i] = std::min(box.lo[i], dd[i]);
+                box.hi[i] = std::max(box.hi[i], dd[i]);
+            }
+        }
+        // tmax: at the target (t = 1) give or take a few ulps, or unbounded
+        const T tmax = it % 3 == 0 ? std::numeric_limits<T>::max() : T(1 + ulp * 4 * u(rng));
+        std::vector<std::uint8_t> hit(dx.size());
+        std::vector<T> tt(dx.size());
+        const bool any = raplas::rays_hit_triangle_native<T>(oo, T(0), tmax, dx.data(), dy.data(), dz.data(), dx.size(), tr,
+                                                             hit.data(), tt.data());
+        const bool proof = raplas::rays_certainly_miss_triangle_native<T>(oo, T(0), tmax, box, tr);
+        hits += any;
+        certified += proof;
+        ASSERT_FALSE(proof && any) << "case " << it << " kind " << kind << ": certified miss, but a ray hits";
+        // a clear miss: the same bundle aimed well beside the triangle, or turned round
+        const Vec3d away = kind % 2 ? o - d0 : o + (target - p0) * 3.0 + nn * 0.01;
+        const Vec3d dm = away - o;
+        raplas::DirectionBox<T> mb;
+        for (int i = 0; i < 3; ++i) mb.lo[i] = mb.hi[i] = T(dm[std::size_t(i)]);
+        std::uint8_t mh = 0;
+        T mt = 0;
+        const bool miss_hits = raplas::rays_hit_triangle_native<T>(oo, T(0), tmax, &mb.lo[0], &mb.lo[1], &mb.lo[2], 1, tr,
+                                                                   &mh, &mt);
+        if (!miss_hits) {
+            ++clear_misses;
+            clear_certified += raplas::rays_certainly_miss_triangle_native<T>(oo, T(0), tmax, mb, tr);
+        } else {
+            ASSERT_FALSE(raplas::rays_certainly_miss_triangle_native<T>(oo, T(0), tmax, mb, tr));
+        }
+    }
+    EXPECT_GT(hits, 10000u) << "the cases hit";
+    EXPECT_GT(certified, 5000u) << "boundary cases are certified too";
+    EXPECT_GT(clear_certified, clear_misses * 8 / 10) << "clear misses are certified";
+    // non-finite boxes and a negative tmin prove nothing
+    const raplas::TriA<A> tr{{0, 0, 1}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    const T o[3] = {0, 0, 0};
+    raplas::DirectionBox<T> behind{{T(0.1), T(0.1), T(-1)}, {T(0.2), T(0.2), T(-1)}};
+    EXPECT_TRUE(raplas::rays_certainly_miss_triangle_native<T>(o, T(0), T(10), behind, tr));
+    EXPECT_FALSE(raplas::rays_certainly_miss_triangle_native<T>(o, T(-1), T(10), behind, tr));
+    behind.lo[0] = std::numeric_limits<T>::quiet_NaN();
+    EXPECT_FALSE(raplas::rays_certainly_miss_triangle_native<T>(o, T(0), T(10), behind, tr));
+}
+
+TEST(CertifiedMiss, NeverHidesAHitFloat32) { certified_misses_never_hit<float>(); }
+TEST(CertifiedMiss, NeverHidesAHitFloat64) { certified_misses_never_hit<double>(); }

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
 #include <vector>
 
 #include "raplas/core/numfmt.hpp"
@@ -460,6 +461,88 @@ inline bool rays_hit_triangle_native(const T o[3], T tmin, T tmax, const T* dx, 
         t[i] = ti;
     }
     return any != 0;
+}
+
+// Component bounds of a set of ray directions: lo[i] <= d[i] <= hi[i].
+template <class T> struct DirectionBox { T lo[3], hi[3]; };
+
+// Whether rays_hit_triangle_native, for every ray with origin o, interval (tmin, tmax), tmin >= 0,
+// and a direction inside `box`, certainly finds no hit: a proof, so that a caller may skip the
+// test and keep bit-identical answers. Each of Eq. 2's computed quantities (det, u', v',
+// u' + v' - det) is a linear function of D rounded a few times; its exact range over the box,
+// widened by a bound on that rounding (a few units in the last place of the sum of the terms'
+// magnitudes, plus a tiny absolute term for underflow), decides when it excludes a hit for
+// every ray: t' = 0, a t' whose sign differs from det's (t <= 0), t >= tmax, or the hit on the
+// far side of an edge. t' = -E.(O - V0) is the kernel's own value (it is shared by the rays).
+// Anything undecided, NaN or infinite answers false. Costs about as much as testing 4 rays.
+template <class T>
+inline bool rays_certainly_miss_triangle_native(const T o[3], T tmin, T tmax, const DirectionBox<T>& box,
+                                                const TriA<ArithNative<T>>& tr) {
+    if (!(tmin >= T(0))) return false;
+    for (int i = 0; i < 3; ++i)
+        if (!std::isfinite(box.lo[i]) || !std::isfinite(box.hi[i])) return false;
+    const T tx = o[0] - tr.v0[0], ty = o[1] - tr.v0[1], tz = o[2] - tr.v0[2];
+    const T tp0 = -((tr.n[0] * tx + tr.n[1] * ty) + tr.n[2] * tz);
+    if (!(tp0 > T(0)) && !(tp0 < T(0))) return true;  // t' = 0 (t = 0 <= tmin) or NaN: no ray hits
+    // Unit roundoff of T; the bounds below are computed in double (exact products for float).
+    constexpr double u = std::is_same_v<T, float> ? 0x1p-24 : 0x1p-53;
+    constexpr double tiny = std::is_same_v<T, float> ? 0x1p-120 : 0x1p-1000;
+    const double dmax[3] = {std::max(std::fabs(double(box.lo[0])), std::fabs(double(box.hi[0]))),
+                            std::max(std::fabs(double(box.lo[1])), std::fabs(double(box.hi[1]))),
+                            std::max(std::fabs(double(box.lo[2])), std::fabs(double(box.hi[2])))};
+    // exact range of D.w over the box (up to double rounding, covered by the slack below)
+    auto range = [&](const double w[3], double& lo, double& hi) {
+        lo = hi = 0;
+        for (int i = 0; i < 3; ++i) {
+            const double a = double(box.lo[i]) * w[i], b = double(box.hi[i]) * w[i];
+            lo += std::min(a, b);
+            hi += std::max(a, b);
+        }
+    };
+    const double nn[3] = {double(tr.n[0]), double(tr.n[1]), double(tr.n[2])};
+    double dlo, dhi;
+    range(nn, dlo, dhi);
+    const double sd = dmax[0] * std::fabs(nn[0]) + dmax[1] * std::fabs(nn[1]) + dmax[2] * std::fabs(nn[2]);
+    // the kernel's intermediates stay far from overflow (its inf or NaN would escape the bounds)
+    constexpr double big = std::is_same_v<T, float> ? 1e36 : 1e300;
+    if (!(sd < big)) return false;
+    const double ed = 8 * u * sd + tiny;
+    dlo -= ed;
+    dhi += ed;  // every computed det in [dlo, dhi]
+    if (tp0 > T(0) && dhi <= 0) return true;  // det <= 0 for every ray: t < 0 or no hit
+    if (tp0 < T(0) && dlo >= 0) return true;
+    const bool front = dlo > 0;
+    if (!front && !(dhi < 0)) return false;  // the sign of det is undecided (or NaN)
+    // t >= tmax for every ray: |t'| / max|det| >= tmax, and rounding is monotone
+    const double q = std::fabs(double(tp0)) / (front ? dhi : -dlo);
+    if (q * (1 - 0x1p-50) >= double(tmax)) return true;
+    // u' = D.(T x E2), v' = -D.(T x E1), computed through C = D x T
+    const double t[3] = {double(tx), double(ty), double(tz)};
+    const double e1[3] = {double(tr.e1[0]), double(tr.e1[1]), double(tr.e1[2])};
+    const double e2[3] = {double(tr.e2[0]), double(tr.e2[1]), double(tr.e2[2])};
+    const double U[3] = {t[1] * e2[2] - t[2] * e2[1], t[2] * e2[0] - t[0] * e2[2], t[0] * e2[1] - t[1] * e2[0]};
+    const double V[3] = {t[1] * e1[2] - t[2] * e1[1], t[2] * e1[0] - t[0] * e1[2], t[0] * e1[1] - t[1] * e1[0]};
+    // |C_i| <= ca_i, and the computed u' is within about 5 u of sum ca_i |E2_i|
+    const double ca[3] = {dmax[1] * std::fabs(t[2]) + dmax[2] * std::fabs(t[1]),
+                          dmax[2] * std::fabs(t[0]) + dmax[0] * std::fabs(t[2]),
+                          dmax[0] * std::fabs(t[1]) + dmax[1] * std::fabs(t[0])};
+    const double ua = ca[0] * std::fabs(e2[0]) + ca[1] * std::fabs(e2[1]) + ca[2] * std::fabs(e2[2]);
+    const double va = ca[0] * std::fabs(e1[0]) + ca[1] * std::fabs(e1[1]) + ca[2] * std::fabs(e1[2]);
+    const double eu = 16 * u * ua + tiny * (1 + std::fabs(e2[0]) + std::fabs(e2[1]) + std::fabs(e2[2]));
+    const double ev = 16 * u * va + tiny * (1 + std::fabs(e1[0]) + std::fabs(e1[1]) + std::fabs(e1[2]));
+    if (!(ua < big && va < big && ca[0] < big && ca[1] < big && ca[2] < big)) return false;
+    double ulo, uhi, vlo, vhi;
+    range(U, ulo, uhi);  // u' = D.U
+    range(V, vlo, vhi);  // v' = -D.V
+    if (front ? uhi + eu < 0 : ulo - eu > 0) return true;   // u < 0 for every ray
+    if (front ? vlo - ev > 0 : vhi + ev < 0) return true;   // v < 0 for every ray
+    // u' + v' - det = D.(U - V - E), the sum rounded once more
+    const double W[3] = {U[0] - V[0] - nn[0], U[1] - V[1] - nn[1], U[2] - V[2] - nn[2]};
+    double wlo, whi;
+    range(W, wlo, whi);
+    const double ew = eu + ev + ed + 4 * u * (ua + va + eu + ev);
+    if (front ? wlo - ew > 0 : whi + ew < 0) return true;  // u + v > det for every ray
+    return false;
 }
 
 bool watertight_certain_miss(const EmulatedBound& b, const RayA<ArithSoft>& r, const TriA<ArithSoft>& tr);

@@ -7,7 +7,10 @@
 #pragma once
 
 #include <cstddef>
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "raplas/core/intersect.hpp"
@@ -32,5 +35,61 @@ void directions_by_component(const std::vector<RayA<A>>& rays, std::vector<typen
         dz[i] = rays[i].d[2];
     }
 }
+
+// The direction bounds of the rays of a sphere's rows x columns in an N x N group, for
+// rays_certainly_miss_triangle_native: each row's and each column's box are computed once per
+// group; the rays of H x V lie inside the union of H's row boxes and inside the union of V's
+// column boxes, so inside their intersection. No bound (finite() false) when a direction is
+// not finite.
+template <class T>
+class GroupDirectionBoxes {
+public:
+    void build(const std::vector<T>& dx, const std::vector<T>& dy, const std::vector<T>& dz, std::uint32_t n) {
+        rows_.assign(n, empty());
+        cols_.assign(n, empty());
+        finite_ = true;
+        for (std::uint32_t v = 0; v < n; ++v)
+            for (std::uint32_t h = 0; h < n; ++h) {
+                const std::size_t i = std::size_t(v) * n + h;
+                const T d[3] = {dx[i], dy[i], dz[i]};
+                for (int c = 0; c < 3; ++c) {
+                    finite_ = finite_ && std::isfinite(d[c]);
+                    widen(rows_[v], c, d[c], d[c]);
+                    widen(cols_[h], c, d[c], d[c]);
+                }
+            }
+    }
+    bool finite() const { return finite_; }
+    // rows, cols: non-empty masks
+    DirectionBox<T> of(std::uint64_t rows, std::uint64_t cols) const {
+        DirectionBox<T> r = empty(), c = empty();
+        for (; rows; rows &= rows - 1) add(r, rows_[std::size_t(__builtin_ctzll(rows))]);
+        for (; cols; cols &= cols - 1) add(c, cols_[std::size_t(__builtin_ctzll(cols))]);
+        for (int k = 0; k < 3; ++k) {
+            r.lo[k] = std::max(r.lo[k], c.lo[k]);
+            r.hi[k] = std::min(r.hi[k], c.hi[k]);
+        }
+        return r;
+    }
+
+private:
+    static DirectionBox<T> empty() {
+        DirectionBox<T> b;
+        for (int k = 0; k < 3; ++k) {
+            b.lo[k] = std::numeric_limits<T>::infinity();
+            b.hi[k] = -std::numeric_limits<T>::infinity();
+        }
+        return b;
+    }
+    static void widen(DirectionBox<T>& b, int k, T lo, T hi) {
+        b.lo[k] = std::min(b.lo[k], lo);
+        b.hi[k] = std::max(b.hi[k], hi);
+    }
+    static void add(DirectionBox<T>& b, const DirectionBox<T>& o) {
+        for (int k = 0; k < 3; ++k) widen(b, k, o.lo[k], o.hi[k]);
+    }
+    std::vector<DirectionBox<T>> rows_, cols_;
+    bool finite_ = false;
+};
 
 }  // namespace raplas
