@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "raplas/core/intersect.hpp"
@@ -134,6 +135,22 @@ struct PlanesD {
 std::uint64_t planes_may_hit_node(const PlanesD& p, std::uint32_t first, std::uint32_t count, const SphereTree::Node& nd,
                                   const ArithBounds& b);
 
+// A leaf's spheres (padded with radius -1, which no plane hits) and Eq. 1 for
+// the planes of `mask` (at most 32) against all of them in vector lanes:
+// out[i] bit p set when plane p hits sphere i, bit-identical to
+// plane_hits_sphere (the same operations; no FMA). src/core/cull.cpp.
+template <class T> struct LeafSpheres { T cx[SphereTree::kLeaf], cy[SphereTree::kLeaf], cz[SphereTree::kLeaf], r[SphereTree::kLeaf]; };
+void leaf_plane_masks(const LeafSpheres<float>& l, const PlaneA<ArithF32>* planes, std::uint32_t mask, std::uint32_t* out);
+void leaf_plane_masks(const LeafSpheres<double>& l, const PlaneA<ArithF64>* planes, std::uint32_t mask, std::uint32_t* out);
+
+// Set bits of x, without a library call where the baseline has no instruction for it.
+inline int bit_count(std::uint64_t x) {
+    x = x - ((x >> 1) & 0x5555555555555555ULL);
+    x = (x & 0x3333333333333333ULL) + ((x >> 2) & 0x3333333333333333ULL);
+    x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0fULL;
+    return static_cast<int>((x * 0x0101010101010101ULL) >> 56);
+}
+
 }  // namespace cull_detail
 
 // Whether culling can be proven for these values in this arithmetic: every
@@ -187,7 +204,7 @@ inline void group_sphere_hits_culled(const A& a, const Plane* planes, const Plan
     // Narrow a plane mask to the planes that may hit node i: plane by plane
     // when few are left, else all n at once in vector lanes.
     auto narrow = [&](std::uint64_t mask, std::uint32_t base, const SphereTree::Node& nd) {
-        if (__builtin_popcountll(mask) > 6) return mask & cull_detail::planes_may_hit_node(soa, base, n, nd, b);
+        if (cull_detail::bit_count(mask) > 6) return mask & cull_detail::planes_may_hit_node(soa, base, n, nd, b);
         for (std::uint64_t m = mask; m; m &= m - 1) {
             const std::uint32_t p = static_cast<std::uint32_t>(__builtin_ctzll(m));
             if (cull_detail::plane_misses_node(pd[base + p], nd, b)) mask &= ~(std::uint64_t(1) << p);
@@ -214,7 +231,32 @@ inline void group_sphere_hits_culled(const A& a, const Plane* planes, const Plan
             stack[top++] = {it.node + 1, rows, cols};
             continue;
         }
-        // Leaf: the exact Eq. 1 test for the planes that may hit.
+        // Leaf: the exact Eq. 1 test for the planes that may hit; in the
+        // native formats all the leaf's spheres at once, plane by plane.
+        if constexpr (std::is_same_v<A, ArithF32> || std::is_same_v<A, ArithF64>) {
+            if (n <= 32) {
+                using T = typename A::T;
+                cull_detail::LeafSpheres<T> leaf;
+                const std::uint32_t count = nd.hi - nd.lo;
+                for (std::uint32_t k = 0; k < SphereTree::kLeaf; ++k) {
+                    const bool in = k < count;
+                    const std::size_t i = in ? nd.lo + k : nd.lo;
+                    leaf.cx[k] = s.cx[i];
+                    leaf.cy[k] = s.cy[i];
+                    leaf.cz[k] = s.cz[i];
+                    leaf.r[k] = in ? s.r[i] : T(-1);
+                }
+                std::uint32_t rms[SphereTree::kLeaf], cms[SphereTree::kLeaf];
+                cull_detail::leaf_plane_masks(leaf, planes_a, std::uint32_t(rows), rms);
+                cull_detail::leaf_plane_masks(leaf, planes_a + n, std::uint32_t(cols), cms);
+                for (std::uint32_t k = 0; k < count; ++k) {
+                    const std::uint64_t rm = rms[k], cm = cms[k];
+                    if (rm && cm) out.push_back({nd.lo + k, rm, cm});
+                    else if (pairless && (rm | cm)) add_to_runs(*pairless, nd.lo + k);
+                }
+                continue;
+            }
+        }
         for (std::uint32_t i = nd.lo; i < nd.hi; ++i) {
             const SphereA<A> sp{s.cx[i], s.cy[i], s.cz[i], s.r[i]};
             std::uint64_t rm = 0;
