@@ -32,6 +32,7 @@
 #include <deque>
 
 #include "top.hpp"
+#include "raplas/core/bits.hpp"
 
 namespace raplas::model {
 
@@ -154,7 +155,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         const PlaneIdEntry masks = icc.triangle_selector.take(tri, icc.planeid_fifo, icc.first_tri_fifo);
         Back& b = back[k];
         while (!b.starts.empty() && b.starts.front() <= c) b.starts.pop_front();  // popped by this cycle's Fetcher
-        const std::uint64_t m = std::uint64_t(__builtin_popcountll(masks.rows)) * std::uint64_t(__builtin_popcountll(masks.cols));
+        const std::uint64_t m = std::uint64_t(bit_count(masks.rows)) * std::uint64_t(bit_count(masks.cols));
         if (icc.rti.stuck()) {  // fault injection: the Fetcher never pops this FIFO again
             b.starts.push_back(kNever);
             icc.triangle_fifo.record_push(std::uint32_t(b.starts.size()));

@@ -38,7 +38,9 @@ public:
     const T& front() const { return buf_[head_]; }
     T& front() { return buf_[head_]; }
     void push(const T& v) {
-        buf_[(head_ + count_) % params_.depth] = v;
+        std::uint32_t i = head_ + count_;  // < 2 depth: no division
+        if (i >= params_.depth) i -= params_.depth;
+        buf_[i] = v;
         ++count_;
         ++stats_.pushes;
         if (count_ > stats_.max_occupancy) stats_.max_occupancy = count_;

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 
+#include "raplas/core/bits.hpp"
 #include "fifo.hpp"
 #include "ray_triangle_intersector.hpp"
 #include "triangle_selector.hpp"
@@ -130,8 +131,8 @@ public:
     // Cycles of RTI work still held (current triangle only).
     std::uint64_t pending_pairs() const {
         if (!busy_) return 0;
-        const std::uint64_t pc = std::uint64_t(__builtin_popcountll(cur_.cols));
-        return (std::uint64_t(__builtin_popcountll(rows_left_)) - 1) * pc + std::uint64_t(__builtin_popcountll(cols_left_));
+        const std::uint64_t pc = std::uint64_t(bit_count(cur_.cols));
+        return (std::uint64_t(bit_count(rows_left_)) - 1) * pc + std::uint64_t(bit_count(cols_left_));
     }
     const Params& params() const { return params_; }
     const Stats& stats() const { return stats_; }

@@ -5,6 +5,7 @@
 
 #include "raplas/core/cull.hpp"
 #include "raplas/core/row_hits.hpp"
+#include "raplas/core/bits.hpp"
 
 namespace raplas {
 
@@ -49,7 +50,7 @@ struct ImplT final : Tracer::Impl {
             out.ray_sphere_hits.assign(std::size_t(n) * n, 0);
         }
         const std::uint64_t valid_planes =
-            std::uint64_t(__builtin_popcountll(g.row_valid)) + std::uint64_t(__builtin_popcountll(g.col_valid));
+            std::uint64_t(bit_count(g.row_valid)) + std::uint64_t(bit_count(g.col_valid));
         out.counts.plane_tests = valid_planes * spheres.size();
         // The list is built in a per-thread scratch vector and, when recorded,
         // copied at its exact size: a frame keeps hundreds of thousands of
@@ -104,8 +105,8 @@ struct ImplT final : Tracer::Impl {
     // tests of it (every ray of its row and column masks against each triangle).
     std::pair<std::uint32_t, std::uint32_t> triangles_tested(const SphereHitRec& hit, GroupResult& out) const {
         const std::uint32_t t0 = s.first_tri[hit.sphere], t1 = t0 + s.tri_count[hit.sphere];
-        out.counts.rt_tests += std::uint64_t(__builtin_popcountll(hit.rows)) *
-                               std::uint64_t(__builtin_popcountll(hit.cols)) * (t1 - t0);
+        out.counts.rt_tests += std::uint64_t(bit_count(hit.rows)) *
+                               std::uint64_t(bit_count(hit.cols)) * (t1 - t0);
         return {t0, t1};
     }
 

@@ -14,6 +14,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "raplas/core/bits.hpp"
 #include "raplas/core/intersect.hpp"
 #include "raplas/core/numfmt.hpp"
 
@@ -143,13 +144,6 @@ template <class T> struct LeafSpheres { T cx[SphereTree::kLeaf], cy[SphereTree::
 void leaf_plane_masks(const LeafSpheres<float>& l, const PlaneA<ArithF32>* planes, std::uint32_t mask, std::uint32_t* out);
 void leaf_plane_masks(const LeafSpheres<double>& l, const PlaneA<ArithF64>* planes, std::uint32_t mask, std::uint32_t* out);
 
-// Set bits of x, without a library call where the baseline has no instruction for it.
-inline int bit_count(std::uint64_t x) {
-    x = x - ((x >> 1) & 0x5555555555555555ULL);
-    x = (x & 0x3333333333333333ULL) + ((x >> 2) & 0x3333333333333333ULL);
-    x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0fULL;
-    return static_cast<int>((x * 0x0101010101010101ULL) >> 56);
-}
 
 }  // namespace cull_detail
 
@@ -204,7 +198,7 @@ inline void group_sphere_hits_culled(const A& a, const Plane* planes, const Plan
     // Narrow a plane mask to the planes that may hit node i: plane by plane
     // when few are left, else all n at once in vector lanes.
     auto narrow = [&](std::uint64_t mask, std::uint32_t base, const SphereTree::Node& nd) {
-        if (cull_detail::bit_count(mask) > 6) return mask & cull_detail::planes_may_hit_node(soa, base, n, nd, b);
+        if (bit_count(mask) > 6) return mask & cull_detail::planes_may_hit_node(soa, base, n, nd, b);
         for (std::uint64_t m = mask; m; m &= m - 1) {
             const std::uint32_t p = static_cast<std::uint32_t>(__builtin_ctzll(m));
             if (cull_detail::plane_misses_node(pd[base + p], nd, b)) mask &= ~(std::uint64_t(1) << p);
