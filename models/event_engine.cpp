@@ -31,8 +31,8 @@
 #include <algorithm>
 #include <deque>
 
-#include "top.hpp"
 #include "raplas/core/bits.hpp"
+#include "top.hpp"
 
 namespace raplas::model {
 

@@ -3,9 +3,9 @@
 #include <type_traits>
 #include <utility>
 
+#include "raplas/core/bits.hpp"
 #include "raplas/core/cull.hpp"
 #include "raplas/core/row_hits.hpp"
-#include "raplas/core/bits.hpp"
 
 namespace raplas {
 

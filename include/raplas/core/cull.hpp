@@ -140,10 +140,12 @@ std::uint64_t planes_may_hit_node(const PlanesD& p, std::uint32_t first, std::ui
 // the planes of `mask` (at most 32) against all of them in vector lanes:
 // out[i] bit p set when plane p hits sphere i, bit-identical to
 // plane_hits_sphere (the same operations; no FMA). src/core/cull.cpp.
-template <class T> struct LeafSpheres { T cx[SphereTree::kLeaf], cy[SphereTree::kLeaf], cz[SphereTree::kLeaf], r[SphereTree::kLeaf]; };
+template <class T>
+struct LeafSpheres {
+    T cx[SphereTree::kLeaf], cy[SphereTree::kLeaf], cz[SphereTree::kLeaf], r[SphereTree::kLeaf];
+};
 void leaf_plane_masks(const LeafSpheres<float>& l, const PlaneA<ArithF32>* planes, std::uint32_t mask, std::uint32_t* out);
 void leaf_plane_masks(const LeafSpheres<double>& l, const PlaneA<ArithF64>* planes, std::uint32_t mask, std::uint32_t* out);
-
 
 }  // namespace cull_detail
 
