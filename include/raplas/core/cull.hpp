@@ -102,13 +102,14 @@ private:
 
 namespace cull_detail {
 
-// A plane as the proof sees it: its float32 record in double, |n|, and the
-// part of the error bound that depends only on the plane.
-struct PlaneD {
-    double nx, ny, nz, w, nnorm;
+// A group's planes as the proof sees them (structure of arrays, so that
+// many are tested at once): their float32 records in double, |n| (rounded
+// up), and the parts of the error bound that depend only on the plane.
+struct PlanesD {
+    double nx[128], ny[128], nz[128], w[128], aw[128], nnorm[128], a[128];  // aw = |w|, a = max(|n|, 1)
 };
 
-// True when no sphere of node `nd` can be hit by plane `p` in an arithmetic
+// True when no sphere of node `nd` can be hit by plane `k` in an arithmetic
 // with bounds `b`: the double distance from the node centre exceeds the
 // node radius by more than any rounding of the exact test could make up.
 //
@@ -119,20 +120,17 @@ struct PlaneD {
 // products, three sums: a (1+u)^6 bound, doubled for safety, plus flushing),
 // and its radius r' from r by at most u r + abs; |c| <= |C| + R, r <= R. The
 // distance computed here in double is itself within 4 * 2^-53 (|n||C|+|w|).
-inline bool plane_misses_node(const PlaneD& p, const SphereTree::Node& nd, const ArithBounds& b) {
-    const double d = p.nx * nd.cx + p.ny * nd.cy + p.nz * nd.cz + p.w;
+inline bool plane_misses_node(const PlanesD& p, std::uint32_t k, const SphereTree::Node& nd, const ArithBounds& b) {
+    const double d = p.nx[k] * nd.cx + p.ny[k] * nd.cy + p.nz[k] * nd.cz + p.w[k];
     const double u = std::max(b.rel, 0x1p-52);
-    const double scale = p.nnorm * (nd.cnorm + nd.r) + std::fabs(p.w);
+    const double scale = p.nnorm[k] * (nd.cnorm + nd.r) + p.aw[k];
     const double slack = 8 * u * scale + u * nd.r + 16 * b.abs;
-    return std::fabs(d) > std::max(p.nnorm, 1.0) * nd.r + slack;
+    return std::fabs(d) > p.a[k] * nd.r + slack;
 }
 
-// The same test for `count` planes at once (structure of arrays), vectorised:
-// bit p of the result is set when plane p may hit the node (the test above
+// The same test for planes [first, first + count) at once, vectorised: bit i
+// of the result is set when plane first + i may hit the node (the test above
 // does not prove a miss). src/core/cull.cpp, compiled for AVX2 as well.
-struct PlanesD {
-    double nx[128], ny[128], nz[128], w[128], aw[128], nnorm[128], a[128];  // aw = |w|, a = max(|n|, 1)
-};
 std::uint64_t planes_may_hit_node(const PlanesD& p, std::uint32_t first, std::uint32_t count, const SphereTree::Node& nd,
                                   const ArithBounds& b);
 
@@ -183,27 +181,25 @@ inline void group_sphere_hits_culled(const A& a, const Plane* planes, const Plan
     out.clear();
     if (pairless) pairless->clear();
     const ArithBounds b = arith_bounds(a);
-    cull_detail::PlaneD pd[128];
-    thread_local cull_detail::PlanesD soa;
+    thread_local cull_detail::PlanesD pd;
     for (std::uint32_t p = 0; p < 2 * n; ++p) {
         const double nx = planes[p].n.x, ny = planes[p].n.y, nz = planes[p].n.z;
-        pd[p] = {nx, ny, nz, double(planes[p].w), std::sqrt(nx * nx + ny * ny + nz * nz) * (1 + 0x1p-50)};
-        soa.nx[p] = nx;
-        soa.ny[p] = ny;
-        soa.nz[p] = nz;
-        soa.w[p] = pd[p].w;
-        soa.aw[p] = std::fabs(pd[p].w);
-        soa.nnorm[p] = pd[p].nnorm;
-        soa.a[p] = std::max(pd[p].nnorm, 1.0);
+        pd.nx[p] = nx;
+        pd.ny[p] = ny;
+        pd.nz[p] = nz;
+        pd.w[p] = planes[p].w;
+        pd.aw[p] = std::fabs(pd.w[p]);
+        pd.nnorm[p] = std::sqrt(nx * nx + ny * ny + nz * nz) * (1 + 0x1p-50);
+        pd.a[p] = std::max(pd.nnorm[p], 1.0);
     }
     const auto& nodes = tree.nodes();
     // Narrow a plane mask to the planes that may hit node i: plane by plane
     // when few are left, else all n at once in vector lanes.
     auto narrow = [&](std::uint64_t mask, std::uint32_t base, const SphereTree::Node& nd) {
-        if (bit_count(mask) > 6) return mask & cull_detail::planes_may_hit_node(soa, base, n, nd, b);
+        if (bit_count(mask) > 6) return mask & cull_detail::planes_may_hit_node(pd, base, n, nd, b);
         for (std::uint64_t m = mask; m; m &= m - 1) {
             const std::uint32_t p = static_cast<std::uint32_t>(__builtin_ctzll(m));
-            if (cull_detail::plane_misses_node(pd[base + p], nd, b)) mask &= ~(std::uint64_t(1) << p);
+            if (cull_detail::plane_misses_node(pd, base + p, nd, b)) mask &= ~(std::uint64_t(1) << p);
         }
         return mask;
     };

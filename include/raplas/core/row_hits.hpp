@@ -6,9 +6,9 @@
 // models' Ray-Triangle Intersector in the compute functional mode.
 #pragma once
 
-#include <cstddef>
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <vector>
