@@ -7,6 +7,7 @@
 #include <queue>
 #include <utility>
 
+#include "raplas/core/bits.hpp"
 #include "raplas/util/error.hpp"
 
 namespace raplas::model {
@@ -25,7 +26,7 @@ GroupWork group_work(const Trace& t, const TraceGroup& g, bool primary, Triangle
     for (const SphereHitRec& h : g.sphere_hits) {
         const std::uint64_t n = t.tri_count[h.sphere];
         w.triangles_needed += n;
-        w.rt_tests += std::uint64_t(__builtin_popcountll(h.rows)) * std::uint64_t(__builtin_popcountll(h.cols)) * n;
+        w.rt_tests += std::uint64_t(bit_count(h.rows)) * std::uint64_t(bit_count(h.cols)) * n;
     }
     if (select == TriangleSelect::any)
         for (const SphereRun& r : g.pairless)

@@ -21,6 +21,7 @@
 // FIFO or First-Triangle-ID FIFO fills (tests/bound_fifo.py checks both).
 #include <algorithm>
 
+#include "raplas/core/bits.hpp"
 #include "top.hpp"
 
 namespace raplas::model {
@@ -80,7 +81,7 @@ std::uint64_t Top::run_pass_bound(const Host::Pass& p) {
         const TraceGroup& g = groups_.group(gi);
         KeptSpheres kept(g.sphere_hits, keep_pairless ? &g.pairless : nullptr);
         while (kept.next()) {
-            const std::uint64_t m = std::uint64_t(__builtin_popcountll(kept.rows)) * std::uint64_t(__builtin_popcountll(kept.cols));
+            const std::uint64_t m = std::uint64_t(bit_count(kept.rows)) * std::uint64_t(bit_count(kept.cols));
             const std::uint32_t first = trace_.first_tri[kept.sphere];
             for (std::uint32_t tri = first; tri < first + trace_.tri_count[kept.sphere]; ++tri)
                 back.take(b.tri_cycle[tri], m, pipes, stages, empty_cycles);

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <type_traits>
 
+#include "raplas/core/bits.hpp"
 #include "raplas/util/atomic_file.hpp"
 #include "raplas/util/input_file.hpp"
 #include "raplas/util/error.hpp"
@@ -376,7 +377,7 @@ void parse_group(Reader& r, const Trace& t, std::uint64_t gi, TraceGroup& g) {
         if (s.sphere >= ns || std::int64_t(s.sphere) <= prev) throw r.fail("sphere hit list out of order or range");
         if (!s.rows || !s.cols || (s.rows & ~g.row_valid) || (s.cols & ~g.col_valid)) throw r.fail("bad plane-hit mask");
         prev = s.sphere;
-        rt += std::uint64_t(__builtin_popcountll(s.rows)) * std::uint64_t(__builtin_popcountll(s.cols)) * t.tri_count[s.sphere];
+        rt += std::uint64_t(bit_count(s.rows)) * std::uint64_t(bit_count(s.cols)) * t.tri_count[s.sphere];
     }
     if (nh != g.counts.sphere_hits || rt != g.counts.rt_tests) throw r.fail("group counts disagree with its sphere hits");
     if (t.pairless) {
