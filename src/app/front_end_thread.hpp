@@ -13,10 +13,11 @@
 
 namespace raplas {
 
-// The front end of a streamed run, on its own thread (which starts
-// the worker threads), kFeederNice below the model's: its failure is kept as a message for the command and
-// handed to the stream, whose waits then stop. Joined on destruction, the
-// stream cancelled first so that no worker waits for room.
+// The front end of a streamed run, on its own thread (which starts the
+// worker threads), kFeederNice below the model's: its failure is kept as a
+// message for the command and handed to the stream, whose waits then stop.
+// Joined on destruction, the stream cancelled first so that no worker waits
+// for room.
 class FrontEndThread {
 public:
     FrontEndThread() = default;
