@@ -15,7 +15,9 @@
 //     its pairs R per cycle, and its last result leaves the RTI L cycles
 //     after its last pair. All of this follows from the selection cycle
 //     alone, and nearest hits do not depend on the order of the tests, so
-//     each selected triangle is scheduled (and tested) once, when selected.
+//     each selected triangle is scheduled once, when selected; its tests are
+//     made when its group is loaded (Icc::answer_at_load), or when it is
+//     selected where that cannot be (an ICC with an injected wrong answer).
 //     Only the Triangle FIFO's occupancy is visible to the link.
 //  3. An ICC is therefore touched only when the Decoder releases one of its
 //     kept spheres, when the triangle stream reaches its pending spheres'

@@ -88,19 +88,39 @@ public:
         selected_before_ = triangle_selector.stats().selected;
         sphere_pushes_before_ = sphere_fifo.stats().pushes;
         GroupUnit& u = *units_[buf];
-        if (loaded_[buf] != g) u.load(*g);
+        if (loaded_[buf] != g) load(*g, buf);
         loaded_[buf] = nullptr;
         psi.start_group(2 * g->n, &u.sphere_hits(), params_.decoder.select == TriangleSelect::any ? &u.pairless() : nullptr);
         ray_data_fetcher.start_group(g->n, buf, overlap);
         min_distance(buf).reset(std::size_t(g->n) * g->n);
+        if (answer_at_load_) {
+            Answers& a = answers_[buf];
+            min_distance(buf).set(std::move(a.hits), a.hits_found);
+            rti.account(0, a.hits_found, 0);
+        }
     }
+    // The answers are the loaded group's (answer_at_load).
+    bool answered() const { return answer_at_load_; }
     bool active() const { return group_ != nullptr; }
     // Loads a group's planes and rays into buffer `buf` and computes its PSI
     // results ahead of start_pass (thread-safe across ICCs: the host loads
     // them in parallel).
     void preload(const TraceGroup* g, std::uint8_t buf = 0) {
-        if (g) units_[buf]->load(*g);
+        if (g) load(*g, buf);
         loaded_[buf] = g;
+    }
+    // Event-driven simulation in the compute functional mode: a group's
+    // ray-triangle answers are found when it is loaded (on the loading
+    // thread), not when its triangles are selected. Every triangle of every
+    // sphere the Decoder queues with a row and a column plane is selected in
+    // the pass, with that sphere's masks, and the nearest hit does not depend
+    // on the order of the tests, so these are the answers the selections
+    // would give, test for test; the event engine only times them. The tests
+    // run in selection order (spheres, then triangles, ascending), so an
+    // injected wrong answer (sim.fault = wrong_rti) goes to the same test.
+    void answer_at_load(const SphereInfo& info) {
+        answer_info_ = info;
+        answer_at_load_ = !rti.stuck();  // a stuck RTI never tests (its ICC stops the run)
     }
     void add_idle(std::uint64_t cycles) { stats_.idle_cycles += cycles; }
     // Fault injection (sim.fault = wrong_rti): one wrong ray-triangle answer
@@ -219,12 +239,44 @@ public:
     OutputLink output;
 
 private:
+    void load(const TraceGroup& g, std::uint8_t buf) {
+        GroupUnit& u = *units_[buf];
+        u.load(g);
+        if (!answer_at_load_) return;
+        Answers& a = answers_[buf];
+        a.hits.assign(std::size_t(g.n) * g.n, Hit{});
+        a.hits_found = 0;
+        double t[64];
+        for (const SphereHitRec& s : u.sphere_hits()) {
+            if (!s.rows || !s.cols) continue;
+            const std::uint32_t first = answer_info_.first_tri(s.sphere), end = first + answer_info_.tri_count(s.sphere);
+            for (std::uint32_t tri = first; tri < end; ++tri) {
+                if (u.rti_certain_miss(s.rows, s.cols, tri)) continue;
+                for (std::uint64_t rm = s.rows; rm; rm &= rm - 1) {
+                    const std::uint32_t v = std::uint32_t(__builtin_ctzll(rm));
+                    for (std::uint64_t hm = u.rti_row(v, s.cols, tri, t); hm; hm &= hm - 1) {
+                        const std::uint32_t h = std::uint32_t(__builtin_ctzll(hm));
+                        ++a.hits_found;
+                        keep_nearest(a.hits[v * g.n + h], t[h], std::int32_t(tri));
+                    }
+                }
+            }
+        }
+    }
+
     Params params_;
     std::unique_ptr<GroupUnit> units_[2];  // Ray Memory (and plane tests) of the two buffers
     std::shared_ptr<bool> wrong_rti_fired_;  // sim.fault = wrong_rti: shared by both buffers' units
     const Functional& functional_;
     const TraceGroup* group_ = nullptr;
     const TraceGroup* loaded_[2] = {nullptr, nullptr};
+    struct Answers {
+        std::vector<Hit> hits;  // per ray, the nearest
+        std::uint64_t hits_found = 0;
+    };
+    Answers answers_[2];  // answer_at_load: per buffer, its loaded group's
+    bool answer_at_load_ = false;
+    SphereInfo answer_info_{nullptr};
     std::uint8_t buf_ = 0;
     std::uint64_t selected_before_ = 0, sphere_pushes_before_ = 0;
     Stats stats_;

@@ -27,6 +27,11 @@ public:
         ++stats_.updates;
     }
     void set(std::vector<Hit> hits) { hits_ = std::move(hits); }
+    // The result of `updates` updates made elsewhere (event-driven simulation).
+    void set(std::vector<Hit> hits, std::uint64_t updates) {
+        hits_ = std::move(hits);
+        stats_.updates += updates;
+    }
     const std::vector<Hit>& hits() const { return hits_; }
     const Params& params() const { return params_; }
     const Stats& stats() const { return stats_; }

@@ -61,6 +61,13 @@ Top::Top(sc_core::sc_module_name n, const SimConfig& cfg, GroupSource& groups, c
     if (!opt_.vcd_path.empty()) setup_vcd();
     // The event-driven mode is exact; waveforms and per-cycle hooks need every cycle.
     event_mode_ = cfg.mode == SimMode::event && !vcd_ && !opt_.on_cycle;
+    // In the event-driven mode a group's ray-triangle answers are found when
+    // it is loaded, on the loading threads (Icc::answer_at_load). Not for an
+    // ICC with an injected wrong answer: whether it fires in a pass depends on
+    // the passes before it (sharding), so its tests stay at selection time.
+    if (event_mode_ && f.mode() == FunctionalMode::compute)
+        for (std::size_t k = 0; k < iccs.size(); ++k)
+            if (cfg.fault != Fault::wrong_rti || k != cfg.fault_icc) iccs[k].answer_at_load(SphereInfo{&sphere_memory});
     const bool bound = cfg.estimate == Estimate::fifo_bound;
     if (event_mode_ || bound) {
         ref_fifo_ = std::make_unique<SphereFifo>("shared_sphere_fifo", cfg.icc.sphere_fifo);
