@@ -178,7 +178,9 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         std::uint64_t nhits = 0;
         GroupUnit& unit = icc.unit();
         double t[64];
-        const bool tests = computes && masks.cols && masks.rows && !unit.rti_certain_miss(masks.rows, masks.cols, tri);
+        // (Found when the group was loaded, unless the ICC answers at selection: Icc::answer_at_load.)
+        const bool tests = computes && !icc.answered() && masks.cols && masks.rows &&
+                           !unit.rti_certain_miss(masks.rows, masks.cols, tri);
         for (std::uint64_t rm = tests ? masks.rows : 0; rm; rm &= rm - 1) {
             const std::uint32_t v = std::uint32_t(__builtin_ctzll(rm));
             for (std::uint64_t hm = unit.rti_row(v, masks.cols, tri, t); hm; hm &= hm - 1) {
