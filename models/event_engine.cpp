@@ -31,7 +31,6 @@
 // The equivalence with the cycle-by-cycle mode is checked in CI on a grid of
 // scenes, ICC counts, FIFO depths and policies (tests/equivalence_modes.py).
 #include <algorithm>
-#include <deque>
 
 #include "raplas/core/bits.hpp"
 #include "top.hpp"
@@ -211,8 +210,10 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 w.sphere_fifo = rf.size();
                 w.decided = rd.decided();
             }
-            const auto& starts = back[k].starts;
-            w.triangle_fifo = std::uint32_t(std::count_if(starts.begin(), starts.end(), [&](std::uint64_t s) { return s >= c; }));
+            const RingQueue& starts = back[k].starts;
+            std::uint32_t in_fifo = 0;
+            for (std::size_t i = 0; i < starts.size(); ++i) in_fifo += starts[i] >= c;
+            w.triangle_fifo = in_fifo;
             w.back_busy = back[k].any && back[k].done >= c;
             v.push_back(w);
         }
@@ -452,8 +453,8 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
 void Top::shift_back(EventBack& b, std::uint64_t by) {
     constexpr std::uint64_t kNever = ~std::uint64_t(0);
     while (!b.starts.empty() && b.starts.front() < by) b.starts.pop_front();  // popped by the end of cycle by - 1
-    for (std::uint64_t& s : b.starts)
-        if (s != kNever) s -= by;
+    for (std::size_t i = 0; i < b.starts.size(); ++i)
+        if (b.starts[i] != kNever) b.starts[i] -= by;
     if (b.any && b.next_cyc >= by) b.next_cyc -= by;
     else b.any = false;  // the next issue slot is free from the pass's first cycle on
     if (b.done != kNever) b.done = b.done >= by ? b.done - by : 0;

@@ -3,7 +3,6 @@
 // machines stepped each cycle; SystemC time advances every sync_cycles).
 #pragma once
 
-#include <deque>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -16,6 +15,7 @@
 #include "icc.hpp"
 #include "raplas/frontend/group_source.hpp"
 #include "memories.hpp"
+#include "ring_queue.hpp"
 #include "stream_link.hpp"
 #include "watchdog.hpp"
 
@@ -181,7 +181,7 @@ private:
     // triangles still in its Triangle FIFO. Kept from pass to pass when passes
     // overlap, moved to the next pass's cycles by shift_back.
     struct EventBack : FetcherQueue {
-        std::deque<std::uint64_t> starts;
+        RingQueue starts;
     };
     std::vector<EventBack> event_back_;
     BucketQueue kept_queue_, wait_queue_;  // event mode: ICCs by next kept sphere, by the triangle they wait for
