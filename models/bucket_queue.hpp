@@ -18,18 +18,28 @@ public:
         head_.assign(keys + 1, kNone);
         next_.assign(iccs, kNone);
         min_ = std::uint32_t(keys);
+        at_min_ = false;
         size_ = 0;
     }
     bool empty() const { return size_ == 0; }
     void push(std::uint32_t key, std::uint32_t icc) {
         next_[icc] = head_[key];
         head_[key] = icc;
-        if (key < min_) min_ = key;
+        if (key <= min_) {
+            min_ = key;
+            at_min_ = true;
+        }
         ++size_;
     }
-    // The smallest key (the queue must not be empty).
+    // The smallest key (the queue must not be empty). The event loop asks
+    // several times a cycle: the answer is kept until the bucket at it is
+    // emptied, so that the bucket array (one entry per triangle of the
+    // scene) is read again only then.
     std::uint32_t min_key() {
-        while (head_[min_] == kNone) ++min_;
+        if (!at_min_) {
+            while (head_[min_] == kNone) ++min_;
+            at_min_ = true;
+        }
         return min_;
     }
     // Takes every ICC at the smallest key out and calls f(icc) for each; f
@@ -39,6 +49,7 @@ public:
         const std::uint32_t key = min_key();
         std::uint32_t k = head_[key];
         head_[key] = kNone;
+        at_min_ = false;
         while (k != kNone) {
             const std::uint32_t next = next_[k];
             --size_;
@@ -51,6 +62,7 @@ private:
     std::vector<std::uint32_t> head_;  // per key, the first ICC at it; next_ links the others
     std::vector<std::uint32_t> next_;
     std::uint32_t min_ = 0;  // no key below it is used
+    bool at_min_ = false;     // and the bucket at min_ is not empty
     std::size_t size_ = 0;
 };
 
