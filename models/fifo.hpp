@@ -49,6 +49,12 @@ public:
         head_ = head_ + 1 == params_.depth ? 0 : head_ + 1;
         --count_;
     }
+    // Asks the cache for the entry `ahead` places behind the front (read soon).
+    void prefetch(std::uint32_t ahead) const {
+        std::uint32_t i = head_ + ahead;
+        if (i >= params_.depth) i -= params_.depth;
+        if (i < params_.depth) __builtin_prefetch(&buf_[i]);
+    }
     void clear() {
         head_ = 0;
         count_ = 0;
