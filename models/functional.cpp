@@ -15,7 +15,8 @@ namespace {
 template <class A>
 class ComputeFunctional final : public Functional {
 public:
-    ComputeFunctional(const Trace& t, A a, bool cull, bool pairless) : a_(a), pairless_(pairless) {
+    ComputeFunctional(const Trace& t, A a, bool cull, bool pairless, bool pairless_given)
+        : a_(a), pairless_(pairless), pairless_given_(pairless && pairless_given) {
         if (cull) tree_ = SphereTree(t.spheres);
         for (const auto& s : t.spheres) spheres_.push_back(load(a_, s));
         tris_.reserve(t.triangles.size());
@@ -40,12 +41,13 @@ public:
                 directions_by_component(rays_, dx_, dy_, dz_);
                 boxes_.build(dx_, dy_, dz_, n_);
             }
-            std::vector<SphereRun>* runs = f_.pairless_ ? &runs_ : nullptr;
+            std::vector<SphereRun>* runs = f_.pairless_ && !f_.pairless_given_ ? &runs_ : nullptr;
             if (f_.tree_.empty())
                 group_sphere_hits(f_.a_, planes_.data(), n_, g.row_valid, g.col_valid, f_.spheres_, hits_, runs);
             else
                 group_sphere_hits_culled(f_.a_, g.planes.data(), planes_.data(), n_, g.row_valid, g.col_valid,
                                          f_.spheres_, f_.tree_, hits_, runs);
+            if (f_.pairless_given_) runs_ = g.pairless;
         }
         const std::vector<SphereHitRec>& sphere_hits() const override { return hits_; }
         const std::vector<SphereRun>& pairless() const override { return runs_; }
@@ -111,6 +113,7 @@ private:
     static constexpr bool kNative = std::is_same_v<A, ArithF32> || std::is_same_v<A, ArithF64>;
     A a_;
     bool pairless_;
+    bool pairless_given_;  // the pair-less spheres are the trace's (Functional::create)
     SphereSoA<A> spheres_;
     std::vector<TriA<A>> tris_;
     SphereTree tree_;  // empty: every sphere tested
@@ -175,13 +178,18 @@ std::unique_ptr<GroupUnit> with_wrong_rti(std::unique_ptr<GroupUnit> inner, std:
 std::unique_ptr<Functional> Functional::create(const Trace& t, const NumFormat& format, FunctionalMode mode, bool cull,
                                                bool pairless) {
     if (mode == FunctionalMode::trace) return std::make_unique<TraceFunctional>();
+    // The pair-less spheres decide no ray-triangle test and no hit (their
+    // triangles get no pair), only timing: a trace made in this format
+    // carries exactly the ones these units would find, so they are taken
+    // from it rather than found again.
+    const bool given = t.pairless && t.format == format;
     switch (format.kind) {
         case NumFormat::Kind::f32:
-            return std::make_unique<ComputeFunctional<ArithF32>>(t, ArithF32{format.rti}, cull, pairless);
+            return std::make_unique<ComputeFunctional<ArithF32>>(t, ArithF32{format.rti}, cull, pairless, given);
         case NumFormat::Kind::f64:
-            return std::make_unique<ComputeFunctional<ArithF64>>(t, ArithF64{format.rti}, cull, pairless);
+            return std::make_unique<ComputeFunctional<ArithF64>>(t, ArithF64{format.rti}, cull, pairless, given);
         case NumFormat::Kind::custom:
-            return std::make_unique<ComputeFunctional<ArithSoft>>(t, ArithSoft{format, true}, cull, pairless);
+            return std::make_unique<ComputeFunctional<ArithSoft>>(t, ArithSoft{format, true}, cull, pairless, given);
     }
     return nullptr;
 }
