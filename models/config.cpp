@@ -97,7 +97,8 @@ ParamSet machine_params() {
                  {"compute", "trace"});
     p.add_bool("sim.cull", true,
                "compute mode: skip, with a proof, the spheres a group's planes cannot hit when computing "
-               "plane-hit masks (bit-identical masks; false tests every sphere, as the hardware does)");
+               "plane-hit masks (bit-identical masks; false tests every sphere, as the hardware does, and also "
+               "finds the pair-less spheres a trace in the model's format carries)");
     p.add_string("sim.mode", std::string("event"),
                  "cycle = step every block every clock cycle; event = exact event-driven stepping that skips "
                  "what cannot change (same cycle counts and statistics; --vcd forces cycle)",

@@ -181,8 +181,9 @@ std::unique_ptr<Functional> Functional::create(const Trace& t, const NumFormat& 
     // The pair-less spheres decide no ray-triangle test and no hit (their
     // triangles get no pair), only timing: a trace made in this format
     // carries exactly the ones these units would find, so they are taken
-    // from it rather than found again.
-    const bool given = t.pairless && t.format == format;
+    // from it rather than found again; without culling (every sphere tested,
+    // as the hardware does) they are found again.
+    const bool given = cull && t.pairless && t.format == format;
     switch (format.kind) {
         case NumFormat::Kind::f32:
             return std::make_unique<ComputeFunctional<ArithF32>>(t, ArithF32{format.rti}, cull, pairless, given);
