@@ -173,22 +173,14 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         // Full from the next cycle until the Fetcher pops the head (a full
         // FIFO takes no push, so nothing else can change that).
         if (b.starts.size() >= tri_depth) full_until.push_back({k, b.starts.front()});
-        // The RTI's tests, all at once: the nearest hit does not depend on their order.
-        std::uint64_t nhits = 0;
-        GroupUnit& unit = icc.unit();
-        double t[64];
-        // (Found when the group was loaded, unless the ICC answers at selection: Icc::answer_at_load.)
-        const bool tests = computes && !icc.answered() && masks.cols && masks.rows &&
-                           !unit.rti_certain_miss(masks.rows, masks.cols, tri);
-        for (std::uint64_t rm = tests ? masks.rows : 0; rm; rm &= rm - 1) {
-            const std::uint32_t v = std::uint32_t(__builtin_ctzll(rm));
-            for (std::uint64_t hm = unit.rti_row(v, masks.cols, tri, t); hm; hm &= hm - 1) {
-                const std::uint32_t h = std::uint32_t(__builtin_ctzll(hm));
-                ++nhits;
-                icc.min_distance(buf).update(v * n + h, t[h], tri);
-            }
-        }
-        icc.rti.account(0, nhits, 0);
+        // The RTI's tests, all at once: the nearest hit does not depend on their
+        // order. (Made when the group was loaded, unless the ICC answers at
+        // selection: Icc::answer_at_load.)
+        if (computes && !icc.answered())
+            icc.rti.account(0,
+                            icc.unit().rti_tests(masks.rows, masks.cols, tri, n,
+                                                 [&](std::uint32_t ray, double t) { icc.min_distance(buf).update(ray, t, tri); }),
+                            0);
         icc.ray_data_fetcher.note_triangle(m == 0);
     };
 

@@ -30,6 +30,25 @@ public:
     // True only with a proof that no ray of rows x cols hits the triangle (rti_row would return 0
     // for every row): the caller may skip those tests. False when it cannot tell.
     virtual bool rti_certain_miss(std::uint64_t rows, std::uint64_t cols, std::uint32_t tri) const = 0;
+
+    // The Ray-Triangle Intersector's tests of one selected triangle against
+    // the rays of rows x cols (groups of n x n rays), in test order (rows
+    // ascending, then columns): hit(ray, t) for each hit; returns their number.
+    template <class F>
+    std::uint64_t rti_tests(std::uint64_t rows, std::uint64_t cols, std::uint32_t tri, std::uint32_t n, F&& hit) {
+        if (!rows || !cols || rti_certain_miss(rows, cols, tri)) return 0;
+        std::uint64_t hits = 0;
+        double t[64];
+        for (std::uint64_t rm = rows; rm; rm &= rm - 1) {
+            const std::uint32_t v = std::uint32_t(__builtin_ctzll(rm));
+            for (std::uint64_t hm = rti_row(v, cols, tri, t); hm; hm &= hm - 1) {
+                const std::uint32_t h = std::uint32_t(__builtin_ctzll(hm));
+                ++hits;
+                hit(v * n + h, t[h]);
+            }
+        }
+        return hits;
+    }
 };
 
 // Fault injection (sim.fault = wrong_rti): `inner` with one wrong answer. The

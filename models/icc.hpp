@@ -246,21 +246,12 @@ private:
         Answers& a = answers_[buf];
         a.hits.assign(std::size_t(g.n) * g.n, Hit{});
         a.hits_found = 0;
-        double t[64];
         for (const SphereHitRec& s : u.sphere_hits()) {
-            if (!s.rows || !s.cols) continue;
             const std::uint32_t first = answer_info_.first_tri(s.sphere), end = first + answer_info_.tri_count(s.sphere);
-            for (std::uint32_t tri = first; tri < end; ++tri) {
-                if (u.rti_certain_miss(s.rows, s.cols, tri)) continue;
-                for (std::uint64_t rm = s.rows; rm; rm &= rm - 1) {
-                    const std::uint32_t v = std::uint32_t(__builtin_ctzll(rm));
-                    for (std::uint64_t hm = u.rti_row(v, s.cols, tri, t); hm; hm &= hm - 1) {
-                        const std::uint32_t h = std::uint32_t(__builtin_ctzll(hm));
-                        ++a.hits_found;
-                        keep_nearest(a.hits[v * g.n + h], t[h], std::int32_t(tri));
-                    }
-                }
-            }
+            for (std::uint32_t tri = first; tri < end; ++tri)
+                a.hits_found += u.rti_tests(s.rows, s.cols, tri, g.n, [&](std::uint32_t ray, double t) {
+                    keep_nearest(a.hits[ray], t, std::int32_t(tri));
+                });
         }
     }
 

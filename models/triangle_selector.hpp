@@ -77,8 +77,8 @@ public:
             // (the next heads were queued long ago: fetch the next one while
             // the stream moves on, and the cache line after it, which the
             // next few pops reach, well ahead of them)
-            __builtin_prefetch(&plane_ids.front());
-            __builtin_prefetch(&first_ids.front());
+            plane_ids.prefetch(0);
+            first_ids.prefetch(0);
             plane_ids.prefetch(64 / sizeof(PlaneIdEntry));
             first_ids.prefetch(64 / sizeof(FirstTriEntry) + 1);
         }
