@@ -9,6 +9,7 @@
 #include <future>
 #include <sstream>
 
+#include "raplas/util/cpu_time.hpp"
 #include "raplas/util/error.hpp"
 #include "raplas/util/parallel.hpp"
 #include "raplas/util/priority.hpp"
@@ -298,7 +299,13 @@ void Top::preload(const Host::Pass& p, std::uint8_t buf) {
     const std::size_t n = p.end - p.begin;
     std::vector<const TraceGroup*> g(n);
     for (std::size_t k = 0; k < n; ++k) g[k] = &groups_.group(p.begin + k);
-    parallel_for(n, default_threads(), [&](std::size_t k) { iccs[k].preload(g[k], buf); });
+    parallel_for(n, default_threads(), [&](std::size_t k) {
+        const double cpu0 = thread_cpu_s();
+        iccs[k].preload(g[k], buf);
+        const auto ns = std::uint64_t(std::max(0.0, thread_cpu_s() - cpu0) * 1e9);
+        loads_cpu_ns_ += ns;
+        if (std::this_thread::get_id() == model_thread_) loads_cpu_model_ns_ += ns;
+    });
 }
 
 std::vector<std::uint32_t> choose_passes(const std::vector<Host::Pass>& passes, const SimConfig& cfg,
@@ -397,11 +404,16 @@ void Top::extrapolate(const std::vector<Host::Pass>& passes) {
 }
 
 void Top::run() {
+    model_thread_ = std::this_thread::get_id();
+    const double cpu0 = thread_cpu_s();
     try {
         run_passes();
     } catch (const std::exception& e) {
         error_ = e.what();
     }
+    // (every load has ended: the next pass's is waited for before run_passes returns)
+    result_.loads_cpu_s = 1e-9 * double(loads_cpu_ns_.load());
+    result_.model_cpu_s = std::max(0.0, thread_cpu_s() - cpu0 - 1e-9 * double(loads_cpu_model_ns_.load()));
     // sc_start() returns when no event is left. The thread parks here for good
     // rather than returning: a returning thread's last switch (QuickThreads
     // abort) is not reported to AddressSanitizer by Debian's SystemC 2.3.4,
@@ -439,12 +451,19 @@ void Top::run_passes() {
     std::uint8_t unchecked_buf = 0;
     std::size_t ci = 0;  // passes simulated so far
     constexpr std::size_t kNone = ~std::size_t(0);
+    // A wait for the source, timed (model_waits_s).
+    auto timed_wait = [&](auto&& wait) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const bool ok = wait();
+        result_.model_waits_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        return ok;
+    };
     std::future<void> ahead;  // the next pass's preload, running
     std::size_t ahead_pass = kNone;
     for (std::size_t i = 0;; ++i) {
         if (i == passes.size()) {
             if (planned_all) break;
-            if (!groups_.wait_total()) {
+            if (!timed_wait([&] { return groups_.wait_total(); })) {
                 source_stopped();
                 return;
             }
@@ -452,7 +471,7 @@ void Top::run_passes() {
             if (i == passes.size()) break;
         }
         const Host::Pass pass = passes[i];
-        if (!groups_.wait_for(pass.end)) {
+        if (!timed_wait([&] { return groups_.wait_for(pass.end); })) {
             source_stopped();
             return;
         }

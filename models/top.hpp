@@ -3,8 +3,10 @@
 // machines stepped each cycle; SystemC time advances every sync_cycles).
 #pragma once
 
+#include <atomic>
 #include <functional>
 #include <memory>
+#include <thread>
 #include <optional>
 #include <string>
 #include <vector>
@@ -59,6 +61,10 @@ struct SimResult {
     };
     std::optional<Mismatch> first_mismatch;
     double model_wall_s = 0;  // wall time of the timing model alone
+    // CPU time of the model's thread (the group loads it made itself
+    // excluded), of the group loads (on every thread), and the wall time the
+    // model's thread waited for groups not yet handed over.
+    double model_cpu_s = 0, loads_cpu_s = 0, model_waits_s = 0;
     // Why the simulation stopped early ("watchdog: ..." or an error inside the
     // model); empty when it finished. Reported here rather than thrown: under
     // AddressSanitizer, Debian's SystemC leaves the main thread's stack
@@ -163,6 +169,9 @@ private:
     SimResult result_;
     std::string error_;
     std::size_t current_pass_ = 0;  // index in the host's plan of the pass being simulated
+    // CPU time of the group loads, in ns: on every thread, and on the model's.
+    std::atomic<std::uint64_t> loads_cpu_ns_{0}, loads_cpu_model_ns_{0};
+    std::thread::id model_thread_;
     std::uint64_t since_sync_ = 0;
     std::uint64_t pass_len_ = 0;
 

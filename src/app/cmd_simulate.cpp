@@ -21,6 +21,7 @@
 #include "raplas/frontend/group_source.hpp"
 #include "raplas/frontend/trace_io.hpp"
 #include "raplas/util/atomic_file.hpp"
+#include "raplas/util/cpu_time.hpp"
 #include "raplas/util/data_dir.hpp"
 #include "raplas/util/error.hpp"
 #include "raplas/util/files.hpp"
@@ -290,6 +291,8 @@ int cmd_simulate(const SimulateArgs& a) {
     in.config_name = config_name;
     in.scene_name = scene_name;
     in.frontend_wall_s = frontend_s;
+    in.cpu_s = process_cpu_s();
+    if (stream) in.frontend_waits_s = stream->frontend_waits_s();
     in.memory = &memory;
     if (sharded) {
         const PartialInput pi{shard, in, mp.dump()};

@@ -1,5 +1,6 @@
 #include "raplas/app/sim_report.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <sstream>
 #include <string_view>
@@ -339,6 +340,16 @@ nlohmann::json sim_json(const SimReportInput& in) {
                  {"model_s", r.model_wall_s},
                  {"sim_cycles_per_second", double(r.total_cycles) / w},
                  {"sim_icc_cycles_per_second", double(r.total_cycles) * c.iccs / w}};
+    if (in.cpu_s > 0) {
+        // Where the CPU time went; the front end's share is the rest (scene
+        // loading, sphere build, tracing, or reading a trace).
+        j["wall"]["cpu_s"] = in.cpu_s;
+        j["wall"]["model_cpu_s"] = r.model_cpu_s;
+        j["wall"]["loads_cpu_s"] = r.loads_cpu_s;
+        j["wall"]["frontend_cpu_s"] = std::max(0.0, in.cpu_s - r.model_cpu_s - r.loads_cpu_s);
+        j["wall"]["model_waits_s"] = r.model_waits_s;
+        j["wall"]["frontend_waits_s"] = in.frontend_waits_s;
+    }
     if (in.shards) {
         j["wall"]["shards"] = in.shards;
         j["wall"]["model_s_max"] = in.model_wall_max_s;

@@ -1,6 +1,7 @@
 #include "raplas/frontend/group_source.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <stdexcept>
 
 namespace raplas {
@@ -18,7 +19,11 @@ void GroupSource::release(std::size_t end) {
 GroupStream::GroupStream(std::size_t window) : window_(std::max<std::size_t>(1, window)), slots_(window_), ready_(window_, 0) {}
 
 void GroupStream::wait_until(std::unique_lock<std::mutex>& lock, const std::function<bool()>& ready) {
-    cv_.wait(lock, [&] { return ready() || failure_ || cancelled_; });
+    if (!ready()) {
+        const auto t0 = std::chrono::steady_clock::now();
+        cv_.wait(lock, [&] { return ready() || failure_ || cancelled_; });
+        frontend_waits_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
     if (!failure_ && !cancelled_) return;
     throw Cancelled();
 }
@@ -88,6 +93,11 @@ void GroupStream::cancel() {
 std::exception_ptr GroupStream::failure() const {
     std::lock_guard<std::mutex> lock(mutex_);
     return failure_;
+}
+
+double GroupStream::frontend_waits_s() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return frontend_waits_s_;
 }
 
 std::size_t GroupStream::peak_held() const {

@@ -49,6 +49,9 @@ struct SimReportInput {
     std::string config_name;
     std::string scene_name;
     double frontend_wall_s = 0;
+    // The process's CPU seconds when the run ended (0: not reported) and the
+    // front end's waits for the model (GroupStream::frontend_waits_s).
+    double cpu_s = 0, frontend_waits_s = 0;
     // A result merged from shards (raplas merge): their count and the longest
     // shard's model time, reported under "wall" (0: not merged).
     std::uint32_t shards = 0;

@@ -136,6 +136,9 @@ public:
     std::size_t window() const { return window_; }
     // The most groups held at once (traced, or being traced, and not yet released).
     std::size_t peak_held() const;
+    // Wall seconds the front end's threads waited for a slot (the model
+    // behind), summed over the threads.
+    double frontend_waits_s() const;
 
 protected:
     void free_below(std::size_t end) override;
@@ -158,6 +161,7 @@ private:
     std::size_t free_point_ = 0;   // groups below it are freed
     std::size_t acquired_end_ = 0;  // one past the highest slot acquired
     std::size_t peak_held_ = 0;
+    double frontend_waits_s_ = 0;
     bool cancelled_ = false;
     std::exception_ptr failure_;
     std::string failure_message_;
