@@ -490,8 +490,12 @@ void Top::run_passes() {
             since_sync_ += c;
         } else {
             if (vcd_) vcd_->pass = std::uint32_t(i);
-            if (ahead.valid()) ahead.get();
-            if (ahead_pass != i) preload(pass, buf);
+            {  // (the wait for this pass's groups to be loaded, timed)
+                const auto t0 = std::chrono::steady_clock::now();
+                if (ahead.valid()) ahead.get();
+                if (ahead_pass != i) preload(pass, buf);
+                result_.load_waits_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            }
             // The next pass's groups are loaded into the other buffer (their
             // plane tests computed) on other threads while this pass runs:
             // only without overlapped passes (that buffer is then idle), and

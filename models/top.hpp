@@ -63,8 +63,9 @@ struct SimResult {
     double model_wall_s = 0;  // wall time of the timing model alone
     // CPU time of the model's thread (the group loads it made itself
     // excluded), of the group loads (on every thread), and the wall time the
-    // model's thread waited for groups not yet handed over.
-    double model_cpu_s = 0, loads_cpu_s = 0, model_waits_s = 0;
+    // model's thread waited for groups not yet handed over, and for a pass's
+    // groups to be loaded (by itself or by the load started a pass ahead).
+    double model_cpu_s = 0, loads_cpu_s = 0, model_waits_s = 0, load_waits_s = 0;
     // Why the simulation stopped early ("watchdog: ..." or an error inside the
     // model); empty when it finished. Reported here rather than thrown: under
     // AddressSanitizer, Debian's SystemC leaves the main thread's stack
