@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "raplas/core/bits.hpp"
+#include "raplas/util/cpu_time.hpp"
 #include "raplas/util/error.hpp"
 
 namespace raplas::model {
@@ -223,11 +224,16 @@ SimResult simulate_system(const Trace& t, const SimConfig& cfg, MemoryStats& sta
         std::vector<std::uint64_t> cycles = r1.pass_cycles;
         SimResult r = baseline_result(t, cfg, stats, &cycles);
         r.model_wall_s = r1.model_wall_s;
+        r.model_cpu_s = r1.model_cpu_s;
+        r.loads_cpu_s = r1.loads_cpu_s;
+        r.load_waits_s = r1.load_waits_s;
         return r;
     }
     const auto t0 = std::chrono::steady_clock::now();
+    const double cpu0 = thread_cpu_s();
     SimResult r = baseline_result(t, cfg, stats);
     r.model_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    r.model_cpu_s = thread_cpu_s() - cpu0;
     return r;
 }
 
