@@ -12,7 +12,8 @@
 #   4. (--hd) the real-resolution frames, config paper, 256 ICCs, FIFO 1000,
 #      exact event mode in the default functional mode, streamed: conference at
 #      1920x1080 and 1280x720, bunny and sports car at 1920x1080; front end
-#      and model wall time apart, peak memory, load (hours on 2 cores: see
+#      and model wall time apart, their CPU time and waits (the JSON's wall),
+#      peak memory, load (hours on 2 cores: see
 #      docs/PERFORMANCE.md). --hd-sample F: the same frames with
 #      sim.estimate = sample_passes, fraction F, and --sample-front-end
 #      (minutes). With --hd or --hd-sample only these frames are run.
@@ -101,6 +102,7 @@ if [[ $hd == 1 ]]; then
          "($(json "$work/hd.json" "round(d['time_ms'], 1)") ms at 400 MHz), $wall wall" \
          "(front end $(json "$work/hd.json" "round(d['wall']['frontend_s'])") s, model" \
          "$(json "$work/hd.json" "round(d['wall']['model_s'])") s, overlapping), peak RSS" \
-         "$(python3 -c "print(f'{$rss / 1024:.0f}')") MiB (load $l0 before, $(load) after)"
+         "$(python3 -c "print(f'{$rss / 1024:.0f}')") MiB (load $l0 before, $(load) after);" \
+         "$(json "$work/hd.json" "'CPU s: model %.0f, loads %.0f, front end %.0f; waited s: model %.0f for groups, %.0f for loads, front end %.0f' % tuple(d['wall'][k] for k in ('model_cpu_s', 'loads_cpu_s', 'frontend_cpu_s', 'model_waits_s', 'load_waits_s', 'frontend_waits_s'))")"
   done
 fi
