@@ -1,6 +1,9 @@
 // Exact-cycle tests of single blocks, stepped by hand (no SystemC kernel run).
 #include <gtest/gtest.h>
 
+#include <random>
+
+#include "bucket_queue.hpp"
 #include "icc.hpp"
 
 using namespace raplas;
@@ -251,4 +254,52 @@ TEST(TriangleSelector, WaitsForTheDecisionThenSelectsOrDiscards) {
     EXPECT_FALSE(sel.ready(true, 4, 5, ftid, tf));
     TriangleSelector lenient("sel_b", {StallPolicy::needed_full});
     EXPECT_TRUE(lenient.ready(true, 4, 5, ftid, tf));
+}
+
+// The event mode's queue of ICCs by stream position, against a plain search
+// of every ICC's key: ICCs pushed at or after the stream position (the last
+// key taken), those taken sometimes pushed again at larger keys, and the
+// smallest key always the one the search finds. Pushes below the smallest
+// key followed by a take (an ICC queued just ahead of the stream, far below
+// the others) are among the cases drawn.
+TEST(BucketQueue, SmallestKeyIsAlwaysTheSmallestUsedOne) {
+    std::mt19937 rng(7);
+    for (int trial = 0; trial < 2000; ++trial) {
+        const std::uint32_t keys = 16 + std::uint32_t(trial % 200), iccs = 1 + std::uint32_t(trial % 9);
+        BucketQueue q;
+        q.reset(keys, iccs);
+        std::vector<std::int64_t> key_of(iccs, -1);
+        std::uint32_t pos = 0;
+        std::size_t taken = 0;
+        for (int step = 0; step < 300; ++step) {
+            if (rng() % 3 < 2) {
+                const std::uint32_t k = std::uint32_t(rng() % iccs);
+                if (key_of[k] >= 0) continue;
+                const std::uint32_t key = pos + std::uint32_t(rng() % (keys - pos));
+                q.push(key, k);
+                key_of[k] = key;
+            } else if (!q.empty()) {
+                std::int64_t smallest = -1;
+                for (std::int64_t x : key_of)
+                    if (x >= 0 && (smallest < 0 || x < smallest)) smallest = x;
+                const std::uint32_t m = q.min_key();
+                ASSERT_EQ(std::int64_t(m), smallest) << "trial " << trial << ", step " << step;
+                pos = m;
+                q.pop_min([&](std::uint32_t k) {
+                    ASSERT_EQ(key_of[k], std::int64_t(m));
+                    key_of[k] = -1;
+                    ++taken;
+                    if (rng() % 2 && m + 1 < keys) {
+                        const std::uint32_t key = m + 1 + std::uint32_t(rng() % (keys - m - 1));
+                        q.push(key, k);
+                        key_of[k] = key;
+                    }
+                });
+            }
+            std::size_t queued = 0;
+            for (std::int64_t x : key_of) queued += x >= 0;
+            ASSERT_EQ(q.empty(), queued == 0);
+        }
+        ASSERT_GT(taken, 0u);
+    }
 }
