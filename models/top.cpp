@@ -453,10 +453,8 @@ void Top::run_passes() {
     constexpr std::size_t kNone = ~std::size_t(0);
     // A wait for the source, timed (model_waits_s).
     auto timed_wait = [&](auto&& wait) {
-        const auto t0 = std::chrono::steady_clock::now();
-        const bool ok = wait();
-        result_.model_waits_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        return ok;
+        const ScopeWall timed(result_.model_waits_s);
+        return wait();
     };
     std::future<void> ahead;  // the next pass's preload, running
     std::size_t ahead_pass = kNone;
@@ -491,10 +489,9 @@ void Top::run_passes() {
         } else {
             if (vcd_) vcd_->pass = std::uint32_t(i);
             {  // (the wait for this pass's groups to be loaded, timed)
-                const auto t0 = std::chrono::steady_clock::now();
+                const ScopeWall timed(result_.load_waits_s);
                 if (ahead.valid()) ahead.get();
                 if (ahead_pass != i) preload(pass, buf);
-                result_.load_waits_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
             }
             // The next pass's groups are loaded into the other buffer (their
             // plane tests computed) on other threads while this pass runs:

@@ -1,8 +1,9 @@
 #include "raplas/frontend/group_source.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <stdexcept>
+
+#include "raplas/util/cpu_time.hpp"
 
 namespace raplas {
 
@@ -20,9 +21,8 @@ GroupStream::GroupStream(std::size_t window) : window_(std::max<std::size_t>(1, 
 
 void GroupStream::wait_until(std::unique_lock<std::mutex>& lock, const std::function<bool()>& ready) {
     if (!ready()) {
-        const auto t0 = std::chrono::steady_clock::now();
+        const ScopeWall timed(frontend_waits_s_);  // (added to with the lock held again)
         cv_.wait(lock, [&] { return ready() || failure_ || cancelled_; });
-        frontend_waits_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
     if (!failure_ && !cancelled_) return;
     throw Cancelled();
