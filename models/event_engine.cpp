@@ -28,6 +28,15 @@
 //     same holds once every sphere is decided (only the triangle stream
 //     moves), and while full Triangle FIFOs hold the triangle stream
 //     (nothing changes until the first of them is popped).
+//  4. Under icc.triangle_select = any most selected triangles have no pair,
+//     and they come in runs (contiguous spheres cut by row planes only or
+//     column planes only). An ICC whose Fetcher is idle when such a run
+//     begins pops each of its triangles the cycle after selecting it, so the
+//     run changes nothing in it but counts and its PlaneID / First-Triangle-ID
+//     FIFOs: it "coasts", taken out of the selection until the run's last
+//     triangle, and its FIFOs are brought up to date whenever they are read.
+//     (Not with icc.rdf_empty_cycles > 1, where such triangles pile up, nor
+//     with a one-entry Triangle FIFO, which one of them fills.)
 // The equivalence with the cycle-by-cycle mode is checked in CI on a grid of
 // scenes, ICC counts, FIFO depths and policies (tests/equivalence_modes.py).
 #include <algorithm>
@@ -150,7 +159,42 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     };
     auto first_tri = [&](std::uint32_t sphere) { return sphere_memory.peek(sphere).first_tri; };
     auto decided_of = [&](std::size_t k) { return role[k] == ref ? rd.decided() : active[k]->decoder.decided(); };
-    // Triangle tri (of the head sphere) selected by ICC k in cycle c.
+
+    // Coasting (4. in the header): ICC k takes the triangles `pos` up to
+    // `end` - 2 of a run of pair-less spheres without being touched; `end` - 1,
+    // the run's last triangle, it selects as usual (it waits for it in
+    // `waiting`). Its Fetcher was idle and its Triangle FIFO empty when the
+    // coast began, so each of those triangles is popped the cycle after it is
+    // selected: the FIFO holds one of them at a time (depth >= 2: it is never
+    // full), every figure of the Selector, FIFO and Fetcher is a count, and
+    // the selection of `end` - 1 leaves the Fetcher as the triangles before
+    // would have. Its PlaneID and First-Triangle-ID FIFOs are popped when
+    // someone reads them (catch_up): the Decoder, and the ICC's own sphere
+    // side while it is individual.
+    struct Coast {
+        std::uint32_t pos = 0, end = 0;
+        bool on = false;
+    };
+    std::vector<Coast> coast(na);
+    const bool may_coast = keep_pairless && rdf_empty <= 1 && tri_depth >= 2 && cfg_.fault == Fault::none;
+    // Coasting ICC k has taken every triangle below `upto` (the link's position).
+    auto catch_up = [&](std::uint32_t k, std::uint32_t upto) {
+        Coast& co = coast[k];
+        if (upto <= co.pos) return;
+        Icc& icc = *active[k];
+        const std::uint64_t taken = upto - co.pos;
+        icc.triangle_selector.add_selected(taken);
+        icc.triangle_fifo.record_push(1, taken);
+        icc.ray_data_fetcher.note_empty_triangles(taken);
+        Fifo<FirstTriEntry>& f = icc.first_tri_fifo;
+        while (f.front().first + f.front().count <= upto) {  // (the run's last sphere stays: upto < end)
+            f.pop();
+            icc.planeid_fifo.pop();
+        }
+        co.pos = upto;
+    };
+    // Triangle tri (of the head sphere) selected by ICC k in cycle c. Returns
+    // true if ICC k coasts from the next triangle on.
     auto select = [&](std::uint32_t k, std::uint32_t tri, std::uint64_t c) {
         Icc& icc = *active[k];
         const PlaneIdEntry masks = icc.triangle_selector.take(tri, icc.planeid_fifo, icc.first_tri_fifo);
@@ -162,8 +206,9 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
             icc.triangle_fifo.record_push(std::uint32_t(b.starts.size()));
             if (b.starts.size() >= tri_depth) full_until.push_back({k, kNever});
             max_done = kNever;
-            return;
+            return false;
         }
+        const bool fifo_was_empty = b.starts.empty();
         const FetcherQueue::Slot slot = b.take(c, m, rti_pipes, rti_stages, rdf_empty);
         const std::uint64_t start = slot.pop;
         icc.rti.account(m, 0, slot.busy);
@@ -182,6 +227,20 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                                                  [&](std::uint32_t ray, double t) { icc.min_distance(buf).update(ray, t, tri); }),
                             0);
         icc.ray_data_fetcher.note_triangle(m == 0);
+        if (!may_coast || m != 0 || !fifo_was_empty || start != c + 1) return false;
+        // The run of contiguous pair-less spheres in the FIFOs from here.
+        const Fifo<FirstTriEntry>& f = icc.first_tri_fifo;
+        const Fifo<PlaneIdEntry>& pf = icc.planeid_fifo;
+        std::uint32_t end = tri + 1;
+        for (std::uint32_t i = 0; i < f.size(); ++i) {
+            const PlaneIdEntry& pm = pf.at(i);
+            const FirstTriEntry& e = f.at(i);
+            if ((pm.rows && pm.cols) || e.first > end) break;
+            end = e.first + e.count;
+        }
+        if (end < tri + 3) return false;  // nothing to skip
+        coast[k] = Coast{tri + 1, end, true};
+        return true;
     };
 
     // Fault injection: a stuck PSI makes its ICC's sphere side its own from the start.
@@ -194,6 +253,8 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
 
     // The watchdog's picture of the active ICCs at the start of cycle c.
     auto views = [&](std::uint64_t c) {
+        for (std::uint32_t k = 0; k < na; ++k)
+            if (coast[k].on) catch_up(k, std::uint32_t(triangle_link.position()));
         std::vector<IccView> v;
         for (std::size_t k = 0; k < na; ++k) {
             const Icc& icc = *active[k];
@@ -271,6 +332,12 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
             }
             if (s_frozen && t_flows && min_decided < sphere_memory.size())  // (no decision while frozen)
                 d = std::min<std::uint64_t>(d, first_tri(min_decided) - tp);
+            if (s_frozen && t_flows)  // a coasting ICC's pop can free its Decoder
+                for (std::uint32_t k : individuals)
+                    if (coast[k].on) {
+                        const FirstTriEntry& h = active[k]->first_tri_fifo.front();
+                        d = std::min<std::uint64_t>(d, h.first + h.count - 1 - tp);
+                    }
             if ((t_flows || t_held) && (s_steady || s_done || s_frozen) && d > 1) {
                 --d;  // the event cycle itself is stepped normally
                 if (s_steady) {
@@ -340,10 +407,21 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         // ---- triangle selection ------------------------------------------
         if (t >= 0) {
             while (!waiting.empty() && waiting.min_key() <= std::uint32_t(t))
-                waiting.pop_min([&](std::uint32_t k) { selecting.push_back(k); });
+                waiting.pop_min([&](std::uint32_t k) {
+                    if (coast[k].on) {  // its run's last triangle
+                        catch_up(k, std::uint32_t(t));
+                        coast[k].on = false;
+                    }
+                    selecting.push_back(k);
+                });
             for (std::size_t i = 0; i < selecting.size();) {
                 const std::uint32_t k = selecting[i];
-                select(k, std::uint32_t(t), cycle);
+                if (select(k, std::uint32_t(t), cycle)) {
+                    waiting.push(coast[k].end - 1, k);
+                    selecting[i] = selecting.back();
+                    selecting.pop_back();
+                    continue;
+                }
                 const Fifo<FirstTriEntry>& f = active[k]->first_tri_fifo;
                 if (f.empty() || f.front().sphere != ts) {
                     if (!f.empty()) waiting.push(f.front().first, k);
@@ -373,6 +451,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                     const PlaneIdEntry masks = advance(k);
                     if (role[k] != ref) return;
                     Icc& c = *active[k];
+                    if (coast[k].on) catch_up(k, std::uint32_t(triangle_link.position()));
                     if (c.planeid_fifo.full() || c.first_tri_fifo.full()) {
                         adopt_reference(k);  // its Decoder holds: it has its own sphere side until it rejoins
                         role[k] = individual;
@@ -398,6 +477,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         for (std::size_t i = 0; i < individuals.size();) {
             const std::uint32_t k = individuals[i];
             Icc& c = *active[k];
+            if (coast[k].on) catch_up(k, std::uint32_t(triangle_link.position()));
             const bool was_empty = c.first_tri_fifo.empty();
             c.tick_front(s, info, spheres_pending);
             if (was_empty && !c.first_tri_fifo.empty()) waiting.push(c.first_tri_fifo.front().first, k);

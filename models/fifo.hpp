@@ -37,6 +37,12 @@ public:
     std::uint32_t depth() const { return params_.depth; }
     const T& front() const { return buf_[head_]; }
     T& front() { return buf_[head_]; }
+    // The entry `i` places behind the front (i < size()).
+    const T& at(std::uint32_t i) const {
+        std::uint32_t j = head_ + i;
+        if (j >= params_.depth) j -= params_.depth;
+        return buf_[j];
+    }
     void push(const T& v) {
         std::uint32_t i = head_ + count_;  // < 2 depth: no division
         if (i >= params_.depth) i -= params_.depth;
@@ -62,8 +68,8 @@ public:
     void note_full(std::uint64_t cycles = 1) { stats_.full_cycles += cycles; }
     // Event-driven simulation keeps the contents elsewhere and records here:
     // a push leaving `occupancy` entries.
-    void record_push(std::uint32_t occupancy) {
-        ++stats_.pushes;
+    void record_push(std::uint32_t occupancy, std::uint64_t n = 1) {
+        stats_.pushes += n;
         if (occupancy > stats_.max_occupancy) stats_.max_occupancy = occupancy;
     }
     const Stats& stats() const { return stats_; }

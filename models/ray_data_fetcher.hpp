@@ -95,6 +95,10 @@ public:
         ++stats_.triangles;
         stats_.empty_triangles += empty;
     }
+    void note_empty_triangles(std::uint64_t n) {
+        stats_.triangles += n;
+        stats_.empty_triangles += n;
+    }
 
     void tick(Fifo<TriWork>& in, RayTriangleIntersector& rti) {
         if (empty_left_) {  // still on a triangle with no pair

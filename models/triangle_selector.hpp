@@ -84,6 +84,8 @@ public:
         }
         return p;
     }
+    // Event-driven simulation: `n` triangles taken whose entries the caller pops.
+    void add_selected(std::uint64_t n) { stats_.selected += n; }
     void note_blocked_full(Fifo<TriWork>& tri_fifo, std::uint64_t cycles = 1) {
         stats_.blocked_fifo_full += cycles;
         tri_fifo.note_full(cycles);

@@ -98,7 +98,9 @@ TEST_P(TopClosedForm, PassesAddUp) {
 // cycle L_psi + 2 + i and the Fetcher, free from cycle L_psi + 3 on, spends e
 // cycles on each (the cycle it pops it included): the last is done in cycle
 // L_psi + 2 + e S, the pass ends one later. With e <= 1 the link is the
-// bottleneck: S + L_psi + 3.
+// bottleneck: S + L_psi + 3. Sphere i's PlaneID entry is queued in cycle
+// L_psi + 1 + i and taken with its triangle a cycle later: the PlaneID FIFO
+// never holds more than one; with e <= 1 neither does the Triangle FIFO.
 namespace {
 constexpr std::uint32_t kPairlessS = 300;
 Trace all_pairless() {
@@ -119,6 +121,10 @@ void expect_all_pairless(std::uint32_t e) {
     EXPECT_EQ(r.iccs[0].ray_data_fetcher.empty_triangles, S);
     EXPECT_EQ(r.iccs[0].rti.tests, 0u);
     EXPECT_EQ(r.iccs[0].rti.busy_cycles, 0u);
+    EXPECT_EQ(r.iccs[0].planeid_fifo.pushes, S);
+    EXPECT_EQ(r.iccs[0].planeid_fifo.max_occupancy, 1u);
+    EXPECT_EQ(r.iccs[0].triangle_fifo.pushes, S);
+    if (e <= 1) EXPECT_EQ(r.iccs[0].triangle_fifo.max_occupancy, 1u);
 }
 }  // namespace
 
@@ -131,6 +137,28 @@ TEST_P(TopClosedForm, PairlessSpheresAreDiscardedUnderBoth) {
 TEST_P(TopClosedForm, PairlessSpheresUnderAnyFetcherDropsThemAtNoCost) { expect_all_pairless(0); }
 TEST_P(TopClosedForm, PairlessSpheresUnderAnyOneFetcherCycleEach) { expect_all_pairless(1); }
 TEST_P(TopClosedForm, PairlessSpheresUnderAnyThreeFetcherCyclesEach) { expect_all_pairless(3); }
+
+// The same behind a triangle stream held back lag >= L_psi + 2 cycles, with
+// a deep PlaneID FIFO: sphere i is queued in cycle L_psi + 1 + i and its
+// triangle taken in cycle lag + i, so the FIFO holds up to lag - L_psi - 1
+// entries while the Fetcher takes each triangle the cycle after it came (the
+// event mode takes such runs as a whole and must still count every push).
+TEST_P(TopClosedForm, PairlessSpheresBehindALaggingTriangleStream) {
+    SimConfig c = base_config(1, 1000);
+    c.icc.decoder.select = TriangleSelect::any;
+    c.icc.planeid_fifo.depth = 1000;
+    c.triangle_lag_cycles = 40;
+    const std::uint64_t S = kPairlessS, L = c.icc.psi.stages, lag = c.triangle_lag_cycles;
+    SimResult r = simulate(all_pairless(), c);
+    EXPECT_EQ(r.total_cycles, lag + S + 1);
+    EXPECT_EQ(r.iccs[0].triangle_selector.selected, S);
+    EXPECT_EQ(r.iccs[0].ray_data_fetcher.empty_triangles, S);
+    EXPECT_EQ(r.iccs[0].planeid_fifo.pushes, S);
+    EXPECT_EQ(r.iccs[0].planeid_fifo.max_occupancy, lag - L - 1);
+    EXPECT_EQ(r.iccs[0].triangle_fifo.pushes, S);
+    EXPECT_EQ(r.iccs[0].triangle_fifo.max_occupancy, 1u);
+    EXPECT_EQ(r.triangle_link.stall_cycles, 0u);
+}
 
 // Spheres alternate: a hit (m = 2 x 2 pairs) and a pair-less sphere (e = 2
 // Fetcher cycles). With a deep FIFO the Fetcher works without a gap from
