@@ -30,13 +30,15 @@
 //     (nothing changes until the first of them is popped).
 //  4. Under icc.triangle_select = any most selected triangles have no pair,
 //     and they come in runs (contiguous spheres cut by row planes only or
-//     column planes only). An ICC whose Fetcher is idle when such a run
-//     begins pops each of its triangles the cycle after selecting it, so the
-//     run changes nothing in it but counts and its PlaneID / First-Triangle-ID
-//     FIFOs: it "coasts", taken out of the selection until the run's last
-//     triangle, and its FIFOs are brought up to date whenever they are read.
-//     (Not with icc.rdf_empty_cycles > 1, where such triangles pile up, nor
-//     with a one-entry Triangle FIFO, which one of them fills.)
+//     column planes only). Each holds the Fetcher one cycle, so an ICC pops
+//     them in closed form from the cycles they are broadcast, and as long as
+//     its Triangle FIFO can neither fill nor pass its largest occupancy so
+//     far, the run changes nothing in it but counts and its PlaneID /
+//     First-Triangle-ID FIFOs: it "coasts", taken out of the selection until
+//     the run's last triangle, and its FIFOs are brought up to date whenever
+//     they are read. (Not with icc.rdf_empty_cycles > 1, where such triangles
+//     pile up; with 0 only from an idle Fetcher; not with a one-entry
+//     Triangle FIFO, which one of them fills.)
 // The equivalence with the cycle-by-cycle mode is checked in CI on a grid of
 // scenes, ICC counts, FIFO depths and policies (tests/equivalence_modes.py).
 #include <algorithm>
@@ -160,19 +162,22 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     auto first_tri = [&](std::uint32_t sphere) { return sphere_memory.peek(sphere).first_tri; };
     auto decided_of = [&](std::size_t k) { return role[k] == ref ? rd.decided() : active[k]->decoder.decided(); };
 
-    // Coasting (4. in the header): ICC k takes the triangles `pos` up to
-    // `end` - 2 of a run of pair-less spheres without being touched; `end` - 1,
-    // the run's last triangle, it selects as usual (it waits for it in
-    // `waiting`). Its Fetcher was idle and its Triangle FIFO empty when the
-    // coast began, so each of those triangles is popped the cycle after it is
-    // selected: the FIFO holds one of them at a time (depth >= 2: it is never
-    // full), every figure of the Selector, FIFO and Fetcher is a count, and
-    // the selection of `end` - 1 leaves the Fetcher as the triangles before
-    // would have. Its PlaneID and First-Triangle-ID FIFOs are popped when
-    // someone reads them (catch_up): the Decoder, and the ICC's own sphere
-    // side while it is individual.
+    // Coasting (4. in the header): ICC k takes the triangles `first` up to
+    // `end` - 2 of a run of pair-less spheres without being touched; `end` - 1
+    // it selects as usual (it waits for it in `waiting`). Each of those
+    // triangles holds the Fetcher one cycle, so the j-th is popped in cycle
+    // max(pop0 + j, c_j + 1), pop0 the pop cycle of the triangle that began
+    // the coast and c_j the cycle it is broadcast: with the Fetcher idle then
+    // (pop0 = c_0 + 1), the cycle after it. The coast is cut where the
+    // Triangle FIFO could fill or exceed its largest occupancy so far, so
+    // every figure of the Selector, FIFO and Fetcher is a count, and the
+    // Fetcher's record is rebuilt when `end` - 1 is selected (end_coast).
+    // Its PlaneID and First-Triangle-ID FIFOs are popped when someone reads
+    // them (catch_up): the Decoder, and the ICC's own sphere side while it is
+    // individual.
     struct Coast {
-        std::uint32_t pos = 0, end = 0;
+        std::uint32_t first = 0, pos = 0, end = 0;
+        std::uint64_t pop0 = 0;  // the pop cycle of the triangle before `first`, which began the coast
         bool on = false;
     };
     std::vector<Coast> coast(na);
@@ -193,6 +198,23 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         }
         co.pos = upto;
     };
+    // Coasting ICC k is about to select its run's last triangle in cycle c:
+    // its Fetcher record as the coasted triangles left it. The j-th of them
+    // (j = 1..L) is popped in cycle max(pop0 + j, c_j + 1), c_j < c the cycle
+    // it was broadcast: those still in the FIFO in cycle c are the ones with
+    // pop0 + j > c, and the last is popped in pop0 + L or by cycle c, which
+    // the next selection's slot treats alike.
+    auto end_coast = [&](std::uint32_t k, std::uint64_t c) {
+        Coast& co = coast[k];
+        Back& b = back[k];
+        const std::uint64_t L = co.end - 1 - co.first;
+        for (std::uint64_t j = c >= co.pop0 ? c - co.pop0 + 1 : 1; j <= L; ++j) b.starts.push_back(co.pop0 + j);
+        b.next_cyc = co.pop0 + L;
+        b.next_used = rdf_empty ? rti_pipes : 0;  // (0: the next slot is free after it)
+        b.any = true;
+        b.done = std::max(b.done, b.next_cyc);
+        co.on = false;
+    };
     // Triangle tri (of the head sphere) selected by ICC k in cycle c. Returns
     // true if ICC k coasts from the next triangle on.
     auto select = [&](std::uint32_t k, std::uint32_t tri, std::uint64_t c) {
@@ -208,7 +230,6 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
             max_done = kNever;
             return false;
         }
-        const bool fifo_was_empty = b.starts.empty();
         const FetcherQueue::Slot slot = b.take(c, m, rti_pipes, rti_stages, rdf_empty);
         const std::uint64_t start = slot.pop;
         icc.rti.account(m, 0, slot.busy);
@@ -227,7 +248,10 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                                                  [&](std::uint32_t ray, double t) { icc.min_distance(buf).update(ray, t, tri); }),
                             0);
         icc.ray_data_fetcher.note_triangle(m == 0);
-        if (!may_coast || m != 0 || !fifo_was_empty || start != c + 1) return false;
+        if (!may_coast || m != 0) return false;
+        // Cycles the Fetcher is still busy with older triangles, and the FIFO's occupancy.
+        const std::uint64_t backlog = start - c - 1, occupancy = b.starts.size();
+        if ((backlog || occupancy > 1) && rdf_empty != 1) return false;
         // The run of contiguous pair-less spheres in the FIFOs from here.
         const Fifo<FirstTriEntry>& f = icc.first_tri_fifo;
         const Fifo<PlaneIdEntry>& pf = icc.planeid_fifo;
@@ -239,7 +263,16 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
             end = e.first + e.count;
         }
         if (end < tri + 3) return false;  // nothing to skip
-        coast[k] = Coast{tri + 1, end, true};
+        // The i-th triangle of the coast finds at most occupancy + min(i,
+        // backlog) entries (older ones pop no later than this one, and the
+        // Fetcher takes one of the coast's each cycle once free): stop where
+        // that could fill the FIFO or raise its largest occupancy so far.
+        const std::uint64_t most = std::min<std::uint64_t>(icc.triangle_fifo.stats().max_occupancy, tri_depth - 1);
+        if (occupancy + std::min<std::uint64_t>(end - tri - 2, backlog) > most) {
+            if (occupancy >= most) return false;
+            end = std::min<std::uint32_t>(end, tri + 2 + std::uint32_t(most - occupancy));
+        }
+        coast[k] = Coast{tri + 1, tri + 1, end, start, true};
         return true;
     };
 
@@ -410,7 +443,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 waiting.pop_min([&](std::uint32_t k) {
                     if (coast[k].on) {  // its run's last triangle
                         catch_up(k, std::uint32_t(t));
-                        coast[k].on = false;
+                        end_coast(k, cycle);
                     }
                     selecting.push_back(k);
                 });
