@@ -63,6 +63,16 @@ public:
         }
         return true;
     }
+    // After next() gave a sphere of a run of pair-less spheres: how many of
+    // that run follow it; skip(n) passes n of them (n <= run_left()).
+    std::uint32_t run_left() const { return in_run_ ? (*runs_)[ri_].end() - in_run_ : 0; }
+    void skip(std::uint32_t n) {
+        in_run_ += n;
+        if (in_run_ >= (*runs_)[ri_].end()) {
+            ++ri_;
+            in_run_ = 0;
+        }
+    }
     std::uint32_t sphere = 0;
     std::uint64_t rows = 0, cols = 0;
 
@@ -92,9 +102,9 @@ public:
     void start_group() { decided_ = 0; }
     void end_group() { stats_.decided += decided_; }
     void set_decided(std::uint32_t d) { decided_ = d; }
-    void note_hit(bool pairless) {
-        ++stats_.sphere_hits;
-        stats_.pairless += pairless;
+    void note_hit(bool pairless, std::uint64_t n = 1) {
+        stats_.sphere_hits += n;
+        stats_.pairless += pairless ? n : 0;
     }
     std::uint32_t decided() const { return decided_; }
     // n cycles of tick() holding (a result to queue, a FIFO full).

@@ -39,6 +39,10 @@
 //     they are read. (Not with icc.rdf_empty_cycles > 1, where such triangles
 //     pile up; with 0 only from an idle Fetcher; not with a one-entry
 //     Triangle FIFO, which one of them fills.)
+//  5. The same runs on the Decoder's side: a reference ICC queues the
+//     spheres of such a run one per decision of the shared side, and while
+//     its PlaneID FIFO can neither fill nor pass its largest occupancy so far
+//     they are pushed only when its FIFOs are read.
 // The equivalence with the cycle-by-cycle mode is checked in CI on a grid of
 // scenes, ICC counts, FIFO depths and policies (tests/equivalence_modes.py).
 #include <algorithm>
@@ -215,6 +219,33 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         b.done = std::max(b.done, b.next_cyc);
         co.on = false;
     };
+    // Lazy Decoder (5. in the header): reference ICC k queues the pair-less
+    // spheres `next` up to `end` - 1, consecutive, each in the cycle the
+    // shared side decides it; they are pushed when someone reads its FIFOs
+    // (push_lazy). The run is cut where the FIFOs could fill or pass their
+    // largest occupancy so far, so the order of these pushes and the pops
+    // between them changes no figure.
+    struct Lazy {
+        std::uint32_t next = 0, end = 0;
+        bool on = false;
+    };
+    std::vector<Lazy> lazy(na);
+    const bool may_lazy = keep_pairless && any_full && cfg_.fault == Fault::none;
+    // Pushes ICC k's lazy spheres below `upto` (decided by now).
+    auto push_lazy = [&](std::uint32_t k, std::uint32_t upto) {
+        Lazy& z = lazy[k];
+        const std::uint32_t to = std::min(upto, z.end);
+        if (to <= z.next) return;
+        Icc& c = *active[k];
+        for (std::uint32_t x = z.next; x < to; ++x) {
+            c.planeid_fifo.push({0, 0});
+            const auto& s = sphere_memory.peek(x);
+            c.first_tri_fifo.push({x, s.first_tri, s.tri_count});
+        }
+        c.decoder.note_hit(true, to - z.next);
+        z.next = to;
+        z.on = to < z.end;
+    };
     // Triangle tri (of the head sphere) selected by ICC k in cycle c. Returns
     // true if ICC k coasts from the next triangle on.
     auto select = [&](std::uint32_t k, std::uint32_t tri, std::uint64_t c) {
@@ -286,8 +317,10 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
 
     // The watchdog's picture of the active ICCs at the start of cycle c.
     auto views = [&](std::uint64_t c) {
-        for (std::uint32_t k = 0; k < na; ++k)
+        for (std::uint32_t k = 0; k < na; ++k) {
+            if (lazy[k].on) push_lazy(k, rd.decided());
             if (coast[k].on) catch_up(k, std::uint32_t(triangle_link.position()));
+        }
         std::vector<IccView> v;
         for (std::size_t k = 0; k < na; ++k) {
             const Icc& icc = *active[k];
@@ -441,6 +474,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         if (t >= 0) {
             while (!waiting.empty() && waiting.min_key() <= std::uint32_t(t))
                 waiting.pop_min([&](std::uint32_t k) {
+                    if (lazy[k].on) push_lazy(k, rd.decided());
                     if (coast[k].on) {  // its run's last triangle
                         catch_up(k, std::uint32_t(t));
                         end_coast(k, cycle);
@@ -449,6 +483,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 });
             for (std::size_t i = 0; i < selecting.size();) {
                 const std::uint32_t k = selecting[i];
+                if (lazy[k].on) push_lazy(k, rd.decided());
                 if (select(k, std::uint32_t(t), cycle)) {
                     waiting.push(coast[k].end - 1, k);
                     selecting[i] = selecting.back();
@@ -458,6 +493,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 const Fifo<FirstTriEntry>& f = active[k]->first_tri_fifo;
                 if (f.empty() || f.front().sphere != ts) {
                     if (!f.empty()) waiting.push(f.front().first, k);
+                    else if (lazy[k].on) waiting.push(first_tri(lazy[k].next), k);  // (not decided yet)
                     selecting[i] = selecting.back();
                     selecting.pop_back();
                 } else {
@@ -481,11 +517,15 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 kept_at.pop_min([&](std::uint32_t k) { advance(k); });
             if (!kept_at.empty() && kept_at.min_key() == x)
                 kept_at.pop_min([&](std::uint32_t k) {
-                    const PlaneIdEntry masks = advance(k);
-                    if (role[k] != ref) return;
+                    if (role[k] != ref) {
+                        advance(k);
+                        return;
+                    }
                     Icc& c = *active[k];
+                    if (lazy[k].on) push_lazy(k, x);
                     if (coast[k].on) catch_up(k, std::uint32_t(triangle_link.position()));
                     if (c.planeid_fifo.full() || c.first_tri_fifo.full()) {
+                        advance(k);
                         adopt_reference(k);  // its Decoder holds: it has its own sphere side until it rejoins
                         role[k] = individual;
                         --n_ref;
@@ -493,10 +533,23 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                         return;
                     }
                     const bool was_empty = c.first_tri_fifo.empty();
+                    KeptSpheres& e = kept[k];
+                    const PlaneIdEntry masks{e.rows, e.cols};
                     c.planeid_fifo.push(masks);
                     c.first_tri_fifo.push({x, first_tri(x), sphere_memory.peek(x).tri_count});
                     c.decoder.note_hit(!(masks.rows && masks.cols));
                     if (was_empty) waiting.push(first_tri(x), k);
+                    if (may_lazy && !(masks.rows && masks.cols) && e.run_left()) {  // the rest of its run, lazily
+                        const std::uint64_t most =
+                            std::min<std::uint64_t>(c.planeid_fifo.stats().max_occupancy, c.planeid_fifo.depth() - 1);
+                        const std::uint64_t occupancy = c.planeid_fifo.size();
+                        if (most > occupancy) {
+                            const std::uint32_t n = std::uint32_t(std::min<std::uint64_t>(e.run_left(), most - occupancy));
+                            e.skip(n);
+                            lazy[k] = Lazy{x + 1, x + 1 + n, true};
+                        }
+                    }
+                    if (e.next()) kept_at.push(e.sphere, k);
                 });
         }
         tick_shared_side(spheres_pending);
@@ -546,8 +599,10 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         if (++since_sync_ >= cfg_.sync_cycles && !sync_time(cycle, watch, max_done, [&] { return views(cycle); }))
             return cycle;
     }
-    for (std::size_t k = 0; k < na; ++k)
+    for (std::uint32_t k = 0; k < na; ++k) {
+        if (lazy[k].on) push_lazy(k, rd.decided());
         if (role[k] == ref) adopt_reference(k);
+    }
     for (auto& icc : iccs)
         if (!icc.active()) icc.add_idle(cycle);
     if (cfg_.overlap_passes)  // the next pass starts at this pass's cycle `cycle`
