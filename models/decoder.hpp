@@ -126,7 +126,7 @@ public:
                 return true;
             }
             plane_ids.push({r.rows, r.cols});
-            first_ids.push({r.sphere, info.first_tri(r.sphere), info.tri_count(r.sphere)});
+            first_ids.push(info.entry(r.sphere));
             note_hit(!(r.rows && r.cols));
         }
         decided_ = r.sphere + 1;

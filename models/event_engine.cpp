@@ -193,7 +193,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         Icc& icc = *active[k];
         const std::uint64_t taken = upto - co.pos;
         icc.triangle_selector.add_selected(taken);
-        icc.triangle_fifo.record_push(1, taken);
+        icc.triangle_fifo.record_push(1, taken);  // (each finds at most its quiet_limit: select's cut)
         icc.ray_data_fetcher.note_empty_triangles(taken);
         Fifo<FirstTriEntry>& f = icc.first_tri_fifo;
         while (f.front().first + f.front().count <= upto) {  // (the run's last sphere stays: upto < end)
@@ -239,8 +239,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         Icc& c = *active[k];
         for (std::uint32_t x = z.next; x < to; ++x) {
             c.planeid_fifo.push({0, 0});
-            const auto& s = sphere_memory.peek(x);
-            c.first_tri_fifo.push({x, s.first_tri, s.tri_count});
+            c.first_tri_fifo.push(info.entry(x));
         }
         c.decoder.note_hit(true, to - z.next);
         z.next = to;
@@ -298,7 +297,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         // backlog) entries (older ones pop no later than this one, and the
         // Fetcher takes one of the coast's each cycle once free): stop where
         // that could fill the FIFO or raise its largest occupancy so far.
-        const std::uint64_t most = std::min<std::uint64_t>(icc.triangle_fifo.stats().max_occupancy, tri_depth - 1);
+        const std::uint64_t most = icc.triangle_fifo.quiet_limit();
         if (occupancy + std::min<std::uint64_t>(end - tri - 2, backlog) > most) {
             if (occupancy >= most) return false;
             end = std::min<std::uint32_t>(end, tri + 2 + std::uint32_t(most - occupancy));
@@ -483,7 +482,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 });
             for (std::size_t i = 0; i < selecting.size();) {
                 const std::uint32_t k = selecting[i];
-                if (lazy[k].on) push_lazy(k, rd.decided());
+                if (lazy[k].on) push_lazy(k, rd.decided());  // (so that a coast can cover the whole run)
                 if (select(k, std::uint32_t(t), cycle)) {
                     waiting.push(coast[k].end - 1, k);
                     selecting[i] = selecting.back();
@@ -536,12 +535,11 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                     KeptSpheres& e = kept[k];
                     const PlaneIdEntry masks{e.rows, e.cols};
                     c.planeid_fifo.push(masks);
-                    c.first_tri_fifo.push({x, first_tri(x), sphere_memory.peek(x).tri_count});
+                    c.first_tri_fifo.push(info.entry(x));
                     c.decoder.note_hit(!(masks.rows && masks.cols));
                     if (was_empty) waiting.push(first_tri(x), k);
                     if (may_lazy && !(masks.rows && masks.cols) && e.run_left()) {  // the rest of its run, lazily
-                        const std::uint64_t most =
-                            std::min<std::uint64_t>(c.planeid_fifo.stats().max_occupancy, c.planeid_fifo.depth() - 1);
+                        const std::uint64_t most = c.planeid_fifo.quiet_limit();
                         const std::uint64_t occupancy = c.planeid_fifo.size();
                         if (most > occupancy) {
                             const std::uint32_t n = std::uint32_t(std::min<std::uint64_t>(e.run_left(), most - occupancy));
@@ -549,7 +547,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                             lazy[k] = Lazy{x + 1, x + 1 + n, true};
                         }
                     }
-                    if (e.next()) kept_at.push(e.sphere, k);
+                    advance(k);
                 });
         }
         tick_shared_side(spheres_pending);

@@ -5,6 +5,7 @@
 
 #include <systemc>
 
+#include <algorithm>
 #include <cstdint>
 #include <stdexcept>
 #include <vector>
@@ -74,6 +75,12 @@ public:
     }
     const Stats& stats() const { return stats_; }
     const Params& params() const { return params_; }
+    // The most entries it may hold without being full or passing its largest
+    // occupancy so far (event-driven simulation: runs whose pushes and pops
+    // are counted, not ordered, stay within it).
+    std::uint64_t quiet_limit() const {
+        return std::min<std::uint64_t>(stats_.max_occupancy, std::uint64_t(params_.depth) - 1);
+    }
 
 private:
     Params params_;

@@ -28,6 +28,11 @@ struct SphereInfo {
     const SphereMemory* mem;
     std::uint32_t first_tri(std::uint32_t s) const { return mem->peek(s).first_tri; }
     std::uint32_t tri_count(std::uint32_t s) const { return mem->peek(s).tri_count; }
+    // Sphere s's First-Triangle-ID FIFO entry.
+    FirstTriEntry entry(std::uint32_t s) const {
+        const auto& r = mem->peek(s);
+        return {s, r.first_tri, r.tri_count};
+    }
 };
 
 class Icc : public sc_core::sc_module {
