@@ -1,44 +1,136 @@
 #include "raplas/core/cull.hpp"
 
+#include <immintrin.h>
+
+#include <cstring>
+#include <limits>
+#include <type_traits>
+#include <utility>
+
 namespace raplas::cull_detail {
 
-// plane_misses_node over a row of planes, branch-free so that it vectorises.
-__attribute__((target_clones("avx2", "default"))) std::uint64_t planes_may_hit_node(const PlanesD& p,
-                                                                                   std::uint32_t first,
-                                                                                   std::uint32_t count,
-                                                                                   const SphereTree::Node& nd,
-                                                                                   const ArithBounds& b) {
-    std::uint8_t hit[128];
-    for (std::uint32_t i = 0; i < count; ++i) hit[i] = !plane_misses_node(p, first + i, nd, b);
+namespace {
+
+// GCC vector types: 4 doubles or 8 floats in one AVX2 register (two SSE2
+// registers in the baseline clone). Every lane does the scalar code's IEEE
+// operations in the same order (no FMA: -ffp-contract=off), so the results
+// are those of the scalar tests, lane for lane.
+template <class T, int N>
+struct Vec {
+    typedef T type __attribute__((vector_size(N * sizeof(T))));
+};
+template <int N>
+struct Vec<std::int64_t, N> {
+    typedef std::int64_t type __attribute__((vector_size(N * 8)));
+};
+template <int N>
+struct Vec<std::int32_t, N> {
+    typedef std::int32_t type __attribute__((vector_size(N * 4)));
+};
+
+// The helpers are always inlined, so no vector crosses a call; GCC warns
+// about the ABI of such calls at the end of the file, hence no pop.
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+template <class V, class T>
+__attribute__((always_inline)) inline V load_v(const T* p) {
+    V v;
+    std::memcpy(&v, p, sizeof(V));
+    return v;
+}
+template <class V, class T>
+__attribute__((always_inline)) inline V splat(T x) {
+    return V{} + x;
+}
+// |x| lane by lane, as std::fabs: the sign bit cleared.
+template <class V, class I>
+__attribute__((always_inline)) inline V abs_v(V x) {
+    using Lane = std::remove_reference_t<decltype(std::declval<I>()[0])>;
+    I bits;
+    std::memcpy(&bits, &x, sizeof(V));
+    bits &= I{} + std::numeric_limits<Lane>::max();
+    std::memcpy(&x, &bits, sizeof(V));
+    return x;
+}
+
+}  // namespace
+
+namespace {
+
+// plane_misses_node over planes [first, first + count), four per AVX2
+// vector: the same operations in the same order, so the same answers.
+__attribute__((target("avx2"))) std::uint64_t planes_may_hit_avx2(const PlanesD& p, std::uint32_t first,
+                                                                  std::uint32_t count, const SphereTree::Node& nd,
+                                                                  const ArithBounds& b) {
+    const double u = std::max(b.rel, 0x1p-52);
+    const __m256d cx = _mm256_set1_pd(nd.cx), cy = _mm256_set1_pd(nd.cy), cz = _mm256_set1_pd(nd.cz);
+    const __m256d r = _mm256_set1_pd(nd.r), cr = _mm256_set1_pd(nd.cnorm + nd.r);
+    const __m256d eight_u = _mm256_set1_pd(8 * u), ur = _mm256_set1_pd(u * nd.r), abs16 = _mm256_set1_pd(16 * b.abs);
+    const __m256d sign = _mm256_set1_pd(-0.0);
+    std::uint64_t miss = 0;
+    for (std::uint32_t i = 0; i < count; i += 4) {
+        const std::uint32_t k = first + i;  // PlanesD holds 4 spare entries past the last plane
+        const __m256d d = _mm256_add_pd(
+            _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(_mm256_loadu_pd(p.nx + k), cx),
+                                        _mm256_mul_pd(_mm256_loadu_pd(p.ny + k), cy)),
+                          _mm256_mul_pd(_mm256_loadu_pd(p.nz + k), cz)),
+            _mm256_loadu_pd(p.w + k));
+        const __m256d scale = _mm256_add_pd(_mm256_mul_pd(_mm256_loadu_pd(p.nnorm + k), cr), _mm256_loadu_pd(p.aw + k));
+        const __m256d slack = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(eight_u, scale), ur), abs16);
+        const __m256d limit = _mm256_add_pd(_mm256_mul_pd(_mm256_loadu_pd(p.a + k), r), slack);
+        const __m256d gt = _mm256_cmp_pd(_mm256_andnot_pd(sign, d), limit, _CMP_GT_OQ);
+        miss |= std::uint64_t(_mm256_movemask_pd(gt)) << i;
+    }
+    const std::uint64_t all = count >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << count) - 1;
+    return ~miss & all;
+}
+
+std::uint64_t planes_may_hit_scalar(const PlanesD& p, std::uint32_t first, std::uint32_t count,
+                                    const SphereTree::Node& nd, const ArithBounds& b) {
     std::uint64_t m = 0;
-    for (std::uint32_t i = 0; i < count; ++i) m |= std::uint64_t(hit[i]) << i;
+    for (std::uint32_t i = 0; i < count; ++i) m |= std::uint64_t(!plane_misses_node(p, first + i, nd, b)) << i;
     return m;
+}
+
+bool has_avx2() {
+    __builtin_cpu_init();  // may run before the constructors that would call it
+    return __builtin_cpu_supports("avx2");
+}
+
+}  // namespace
+
+std::uint64_t planes_may_hit_node(const PlanesD& p, std::uint32_t first, std::uint32_t count,
+                                  const SphereTree::Node& nd, const ArithBounds& b) {
+    static const bool avx2 = has_avx2();
+    return avx2 ? planes_may_hit_avx2(p, first, count, nd, b) : planes_may_hit_scalar(p, first, count, nd, b);
 }
 
 namespace {
 template <class T>
-inline void leaf_masks(const LeafSpheres<T>& l, const PlaneA<ArithNative<T>>* planes, std::uint32_t mask,
-                       std::uint32_t* out) {
-    constexpr std::uint32_t k = SphereTree::kLeaf;
-    std::uint32_t m[k] = {};
+__attribute__((always_inline)) inline void leaf_masks(const LeafView<T>& l, const PlaneA<ArithNative<T>>* planes,
+                                                     std::uint32_t mask, std::uint32_t* out) {
+    constexpr int k = static_cast<int>(SphereTree::kLeaf);
+    using V = typename Vec<T, k>::type;
+    using Lane = std::conditional_t<sizeof(T) == 4, std::int32_t, std::int64_t>;
+    using I = typename Vec<Lane, k>::type;
+    const V cx = load_v<V>(l.cx), cy = load_v<V>(l.cy), cz = load_v<V>(l.cz), r = load_v<V>(l.r);
+    I m{};
     for (; mask; mask &= mask - 1) {
         const std::uint32_t p = static_cast<std::uint32_t>(__builtin_ctz(mask));
         const PlaneA<ArithNative<T>> pl = planes[p];
-        for (std::uint32_t i = 0; i < k; ++i) {
-            const T d = ((pl.nx * l.cx[i] + pl.ny * l.cy[i]) + pl.nz * l.cz[i]) + pl.w;
-            m[i] |= std::uint32_t(std::fabs(d) <= l.r[i]) << p;
-        }
+        const V d = ((splat<V>(pl.nx) * cx + splat<V>(pl.ny) * cy) + splat<V>(pl.nz) * cz) + splat<V>(pl.w);
+        m |= (abs_v<V, I>(d) <= r) & (I{} + static_cast<Lane>(std::uint32_t(1) << p));
     }
-    for (std::uint32_t i = 0; i < k; ++i) out[i] = m[i];
+    for (int i = 0; i < k; ++i) out[i] = static_cast<std::uint32_t>(m[i]);
 }
 }  // namespace
 
-__attribute__((target_clones("avx2", "default"))) void leaf_plane_masks(const LeafSpheres<float>& l,
+__attribute__((target_clones("avx2", "default"))) void leaf_plane_masks(const LeafView<float>& l,
                                                                         const PlaneA<ArithF32>* planes,
                                                                         std::uint32_t mask, std::uint32_t* out) {
     leaf_masks(l, planes, mask, out);
 }
-__attribute__((target_clones("avx2", "default"))) void leaf_plane_masks(const LeafSpheres<double>& l,
+__attribute__((target_clones("avx2", "default"))) void leaf_plane_masks(const LeafView<double>& l,
                                                                         const PlaneA<ArithF64>* planes,
                                                                         std::uint32_t mask, std::uint32_t* out) {
     leaf_masks(l, planes, mask, out);

@@ -104,9 +104,10 @@ namespace cull_detail {
 
 // A group's planes as the proof sees them (structure of arrays, so that
 // many are tested at once): their float32 records in double, |n| (rounded
-// up), and the parts of the error bound that depend only on the plane.
+// up), and the parts of the error bound that depend only on the plane. Four
+// spare entries past the 128th let a vector of four read past the last plane.
 struct PlanesD {
-    double nx[128], ny[128], nz[128], w[128], aw[128], nnorm[128], a[128];  // aw = |w|, a = max(|n|, 1)
+    double nx[132], ny[132], nz[132], w[132], aw[132], nnorm[132], a[132];  // aw = |w|, a = max(|n|, 1)
 };
 
 // True when no sphere of node `nd` can be hit by plane `k` in an arithmetic
@@ -128,22 +129,30 @@ inline bool plane_misses_node(const PlanesD& p, std::uint32_t k, const SphereTre
     return std::fabs(d) > p.a[k] * nd.r + slack;
 }
 
-// The same test for planes [first, first + count) at once, vectorised: bit i
-// of the result is set when plane first + i may hit the node (the test above
-// does not prove a miss). src/core/cull.cpp, compiled for AVX2 as well.
+// The same test for planes [first, first + count) at once (count <= 64): bit
+// i of the result is set when plane first + i may hit the node (the test
+// above does not prove a miss). src/core/cull.cpp: four planes per AVX2
+// vector where the machine has AVX2, else plane by plane.
 std::uint64_t planes_may_hit_node(const PlanesD& p, std::uint32_t first, std::uint32_t count, const SphereTree::Node& nd,
                                   const ArithBounds& b);
 
-// A leaf's spheres (padded with radius -1, which no plane hits) and Eq. 1 for
-// the planes of `mask` (at most 32) against all of them in vector lanes:
-// out[i] bit p set when plane p hits sphere i, bit-identical to
-// plane_hits_sphere (the same operations; no FMA). src/core/cull.cpp.
+// A leaf's spheres: kLeaf consecutive entries of each array (a leaf with
+// fewer spheres is copied into LeafSpheres, padded with radius -1, which no
+// plane hits), and Eq. 1 for the planes of `mask` (at most 32) against all
+// of them in vector lanes: out[i] bit p set when plane p hits sphere i,
+// bit-identical to plane_hits_sphere (the same operations; no FMA).
+// src/core/cull.cpp.
+template <class T>
+struct LeafView {
+    const T *cx, *cy, *cz, *r;
+};
 template <class T>
 struct LeafSpheres {
     T cx[SphereTree::kLeaf], cy[SphereTree::kLeaf], cz[SphereTree::kLeaf], r[SphereTree::kLeaf];
+    LeafView<T> view() const { return {cx, cy, cz, r}; }
 };
-void leaf_plane_masks(const LeafSpheres<float>& l, const PlaneA<ArithF32>* planes, std::uint32_t mask, std::uint32_t* out);
-void leaf_plane_masks(const LeafSpheres<double>& l, const PlaneA<ArithF64>* planes, std::uint32_t mask, std::uint32_t* out);
+void leaf_plane_masks(const LeafView<float>& l, const PlaneA<ArithF32>* planes, std::uint32_t mask, std::uint32_t* out);
+void leaf_plane_masks(const LeafView<double>& l, const PlaneA<ArithF64>* planes, std::uint32_t mask, std::uint32_t* out);
 
 }  // namespace cull_detail
 
@@ -193,15 +202,13 @@ inline void group_sphere_hits_culled(const A& a, const Plane* planes, const Plan
         pd.a[p] = std::max(pd.nnorm[p], 1.0);
     }
     const auto& nodes = tree.nodes();
-    // Narrow a plane mask to the planes that may hit node i: plane by plane
-    // when few are left, else all n at once in vector lanes.
+    // Narrow a plane mask to the planes that may hit node nd: the planes
+    // from its lowest to its highest bit in one vectorised test.
     auto narrow = [&](std::uint64_t mask, std::uint32_t base, const SphereTree::Node& nd) {
-        if (bit_count(mask) > 6) return mask & cull_detail::planes_may_hit_node(pd, base, n, nd, b);
-        for (std::uint64_t m = mask; m; m &= m - 1) {
-            const std::uint32_t p = static_cast<std::uint32_t>(__builtin_ctzll(m));
-            if (cull_detail::plane_misses_node(pd, base + p, nd, b)) mask &= ~(std::uint64_t(1) << p);
-        }
-        return mask;
+        if (!mask) return mask;
+        const auto first = static_cast<std::uint32_t>(__builtin_ctzll(mask));
+        const auto count = static_cast<std::uint32_t>(64 - __builtin_clzll(mask)) - first;
+        return mask & (cull_detail::planes_may_hit_node(pd, base + first, count, nd, b) << first);
     };
     // Depth-first, left before right: leaves come in sphere order.
     struct Item {
@@ -228,19 +235,24 @@ inline void group_sphere_hits_culled(const A& a, const Plane* planes, const Plan
         if constexpr (std::is_same_v<A, ArithF32> || std::is_same_v<A, ArithF64>) {
             if (n <= 32) {
                 using T = typename A::T;
-                cull_detail::LeafSpheres<T> leaf;
                 const std::uint32_t count = nd.hi - nd.lo;
-                for (std::uint32_t k = 0; k < SphereTree::kLeaf; ++k) {
-                    const bool in = k < count;
-                    const std::size_t i = in ? nd.lo + k : nd.lo;
-                    leaf.cx[k] = s.cx[i];
-                    leaf.cy[k] = s.cy[i];
-                    leaf.cz[k] = s.cz[i];
-                    leaf.r[k] = in ? s.r[i] : T(-1);
+                cull_detail::LeafView<T> view{s.cx.data() + nd.lo, s.cy.data() + nd.lo, s.cz.data() + nd.lo,
+                                              s.r.data() + nd.lo};
+                cull_detail::LeafSpheres<T> padded;
+                if (count < SphereTree::kLeaf) {
+                    for (std::uint32_t k = 0; k < SphereTree::kLeaf; ++k) {
+                        const bool in = k < count;
+                        const std::size_t i = in ? nd.lo + k : nd.lo;
+                        padded.cx[k] = s.cx[i];
+                        padded.cy[k] = s.cy[i];
+                        padded.cz[k] = s.cz[i];
+                        padded.r[k] = in ? s.r[i] : T(-1);
+                    }
+                    view = padded.view();
                 }
                 std::uint32_t rms[SphereTree::kLeaf], cms[SphereTree::kLeaf];
-                cull_detail::leaf_plane_masks(leaf, planes_a, std::uint32_t(rows), rms);
-                cull_detail::leaf_plane_masks(leaf, planes_a + n, std::uint32_t(cols), cms);
+                cull_detail::leaf_plane_masks(view, planes_a, std::uint32_t(rows), rms);
+                cull_detail::leaf_plane_masks(view, planes_a + n, std::uint32_t(cols), cms);
                 for (std::uint32_t k = 0; k < count; ++k) {
                     const std::uint64_t rm = rms[k], cm = cms[k];
                     if (rm && cm) out.push_back({nd.lo + k, rm, cm});
