@@ -120,14 +120,12 @@ struct ImplT final : Tracer::Impl {
                           GroupResult& out) const {
         const std::uint32_t n = g.n;
         thread_local std::vector<T> dx, dy, dz, tt;
-        thread_local std::vector<std::uint8_t> hit;
         directions_by_component(rays, dx, dy, dz);
-        tt.resize(n);
-        hit.resize(n);
+        tt.resize(std::size_t(n) * n);
         const RayA<A>& r0 = rays[0];
-        std::uint8_t* hb = hit.data();
         thread_local GroupDirectionBoxes<T> boxes;
         boxes.build(dx, dy, dz, n);
+        std::uint64_t hits[64];
         for (const SphereHitRec& rec : list) {
             const std::uint64_t rows = rec.rows, cols = rec.cols;
             const auto [t0, t1] = triangles_tested(rec, out);
@@ -137,15 +135,15 @@ struct ImplT final : Tracer::Impl {
             for (std::uint32_t t = t0; t < t1; ++t) {
                 if (boxes.finite() && rays_certainly_miss_triangle_native(r0.o, r0.tmin, r0.tmax, box, tris[t]))
                     continue;
+                if (!rows_hit_triangle(r0.o, r0.tmin, r0.tmax, dx.data(), dy.data(), dz.data(), n, rows, cols, tris[t],
+                                       hits, tt.data()))
+                    continue;
                 for (std::uint64_t rm = rows; rm; rm &= rm - 1) {
                     const std::size_t v = static_cast<std::size_t>(__builtin_ctzll(rm));
                     const std::size_t base = v * n;
-                    if (!row_hits(r0.o, r0.tmin, r0.tmax, dx.data() + base, dy.data() + base, dz.data() + base, n,
-                                  tris[t], hb, tt.data()))
-                        continue;
-                    for (std::uint64_t cm = cols; cm; cm &= cm - 1) {
+                    for (std::uint64_t cm = hits[v]; cm; cm &= cm - 1) {
                         const std::size_t h = static_cast<std::size_t>(__builtin_ctzll(cm));
-                        if (hb[h]) keep_nearest(out.hits[base + h], static_cast<double>(tt[h]), static_cast<std::int32_t>(t));
+                        keep_nearest(out.hits[base + h], static_cast<double>(tt[base + h]), static_cast<std::int32_t>(t));
                     }
                 }
             }

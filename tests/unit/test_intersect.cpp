@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "raplas/core/intersect.hpp"
+#include "raplas/core/row_hits.hpp"
 #include "raplas/core/numfmt.hpp"
 
 namespace {
@@ -576,9 +577,13 @@ void row_kernel_matches_scalar() {
             const bool any = raplas::rays_hit_triangle_native<T>(rays[0].o, rays[0].tmin, rays[0].tmax, dx.data(),
                                                                  dy.data(), dz.data(), n, ta, hit.data(), tt.data());
             bool any_scalar = false;
+            std::vector<std::uint8_t> scalar_hit(n);
+            std::vector<double> scalar_t(n);
             for (std::size_t i = 0; i < n; ++i) {
                 double ts = 0;
                 const bool hs = raplas::ray_hits_triangle(a, rays[i], ta, ts);
+                scalar_hit[i] = hs;
+                scalar_t[i] = ts;
                 any_scalar = any_scalar || hs;
                 ASSERT_EQ(bool(hit[i]), hs) << "group " << g << " ray " << i;
                 if (hs) {
@@ -588,6 +593,34 @@ void row_kernel_matches_scalar() {
                 ++compared;
             }
             ASSERT_EQ(any, any_scalar);
+            // The same rays as an N x N group (ray v * N + h), whole triangle at
+            // once (rows_hit_triangle): random row and column masks, group sizes
+            // that fill vectors and sizes that leave a partial one.
+            for (const std::uint32_t gn : {8u, 5u, 3u, 1u}) {
+                const std::uint64_t all = (std::uint64_t(1) << gn) - 1;
+                std::uint64_t rows = rng() & all, cols = rng() & all;
+                if (!rows) rows = all;
+                if (!cols) cols = std::uint64_t(1) << (gn - 1);
+                std::uint64_t hm[64];
+                std::vector<T> tg(std::size_t(gn) * gn);
+                const bool anyg = raplas::rows_hit_triangle(rays[0].o, rays[0].tmin, rays[0].tmax, dx.data(), dy.data(),
+                                                            dz.data(), gn, rows, cols, ta, hm, tg.data());
+                bool want_any = false;
+                for (std::uint64_t rm = rows; rm; rm &= rm - 1) {
+                    const auto rv = std::uint32_t(__builtin_ctzll(rm));
+                    for (std::uint32_t h = 0; h < gn; ++h) {
+                        const std::size_t i = std::size_t(rv) * gn + h;
+                        const bool want = ((cols >> h) & 1) && scalar_hit[i];
+                        want_any = want_any || want;
+                        ASSERT_EQ(bool((hm[rv] >> h) & 1), want) << "group " << g << " N " << gn << " ray " << i;
+                        if (want) {
+                            ASSERT_EQ(static_cast<double>(tg[i]), scalar_t[i]) << "group " << g << " ray " << i;
+                        }
+                    }
+                    ASSERT_EQ(hm[rv] & ~cols, 0u);
+                }
+                ASSERT_EQ(anyg, want_any) << "group " << g << " N " << gn;
+            }
         }
     }
     EXPECT_GT(hits, 1000u) << "the cases hit triangles";

@@ -22,6 +22,21 @@ bool row_hits(const float o[3], float tmin, float tmax, const float* dx, const f
 bool row_hits(const double o[3], double tmin, double tmax, const double* dx, const double* dy, const double* dz,
               std::size_t count, const TriA<ArithF64>& tr, std::uint8_t* hit, double* t);
 
+// One triangle against the rays of rows x cols of an n x n group (n <= 64)
+// whose directions are dx, dy, dz (ray v * n + h): for every row v of
+// `rows`, hits[v] gets bit h set when ray (v, h), h in `cols`, hits, and
+// t[v * n + h] its distance. Every hit and distance is bit-identical to
+// row_hits (the same operations in the same order); the triangle's own terms
+// are computed once, only the columns from the lowest to the highest of
+// `cols` are evaluated, and on a machine with AVX2 8 floats or 4 doubles per
+// vector. Returns whether any ray hits. src/core/row_hits.cpp.
+bool rows_hit_triangle(const float o[3], float tmin, float tmax, const float* dx, const float* dy, const float* dz,
+                       std::uint32_t n, std::uint64_t rows, std::uint64_t cols, const TriA<ArithF32>& tr,
+                       std::uint64_t* hits, float* t);
+bool rows_hit_triangle(const double o[3], double tmin, double tmax, const double* dx, const double* dy,
+                       const double* dz, std::uint32_t n, std::uint64_t rows, std::uint64_t cols,
+                       const TriA<ArithF64>& tr, std::uint64_t* hits, double* t);
+
 // The rays' directions by component (dx[i], dy[i], dz[i]), as row_hits takes them.
 template <class A>
 void directions_by_component(const std::vector<RayA<A>>& rays, std::vector<typename A::T>& dx,
