@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -48,10 +49,75 @@ double radius_about(const Vec3d& c, const std::vector<Vec3d>& pts) {
     return std::sqrt(r2);
 }
 
-Sphere enclose(const std::vector<Vec3d>& pts, bool tight, double margin) {
+// Badoiu-Clarkson: 64 steps toward the farthest point from `c`, which
+// converge to the minimum sphere's centre.
+Vec3d badoiu_clarkson(const std::vector<Vec3d>& pts, Vec3d c) {
+    for (int i = 1; i <= 64; ++i) {
+        const Vec3d* far = &pts[0];
+        double d2 = -1;
+        for (const auto& p : pts)
+            if (dot(p - c, p - c) > d2) { d2 = dot(p - c, p - c); far = &p; }
+        c = c + (*far - c) / double(i + 1);
+    }
+    return c;
+}
+
+// badoiu_clarkson for four point sets of m points each at once, set k in
+// vector lane k: p[12 j + 4 axis + k] is point j of set k, c[4 axis + k]
+// the start and the result. Each lane does the scalar loop's operations
+// in the same order (no FMA; a farther point replaces the farthest so far
+// only when strictly farther), so the result is the scalar one, bit for bit.
+__attribute__((target_clones("avx2", "default"))) void badoiu_clarkson4(const double* p, std::size_t m, double* c) {
+    typedef double V __attribute__((vector_size(32)));
+    V cx, cy, cz;
+    std::memcpy(&cx, c, sizeof(V));
+    std::memcpy(&cy, c + 4, sizeof(V));
+    std::memcpy(&cz, c + 8, sizeof(V));
+    for (int i = 1; i <= 64; ++i) {
+        V d2 = V{} - 1.0, fx, fy, fz;
+        std::memcpy(&fx, p, sizeof(V));
+        std::memcpy(&fy, p + 4, sizeof(V));
+        std::memcpy(&fz, p + 8, sizeof(V));
+        for (std::size_t j = 0; j < m; ++j) {
+            V x, y, z;
+            std::memcpy(&x, p + 12 * j, sizeof(V));
+            std::memcpy(&y, p + 12 * j + 4, sizeof(V));
+            std::memcpy(&z, p + 12 * j + 8, sizeof(V));
+            const V dx = x - cx, dy = y - cy, dz = z - cz;
+            const V d = (dx * dx + dy * dy) + dz * dz;
+            const auto farther = d > d2;
+            d2 = farther ? d : d2;
+            fx = farther ? x : fx;
+            fy = farther ? y : fy;
+            fz = farther ? z : fz;
+        }
+        const V step = V{} + double(i + 1);
+        cx = cx + (fx - cx) / step;
+        cy = cy + (fy - cy) / step;
+        cz = cz + (fz - cz) / step;
+    }
+    std::memcpy(c, &cx, sizeof(V));
+    std::memcpy(c + 4, &cy, sizeof(V));
+    std::memcpy(c + 8, &cz, sizeof(V));
+}
+
+// Whether enclose() runs Badoiu-Clarkson for these points (it does not for
+// one non-degenerate triangle, whose smallest sphere is known exactly).
+bool needs_iteration(const std::vector<Vec3d>& pts, bool tight) {
+    Vec3d c;
+    return tight && !(pts.size() == 3 && triangle_min_sphere(pts[0], pts[1], pts[2], c));
+}
+
+Vec3d box_centre(const std::vector<Vec3d>& pts) {
     Aabb box;
     for (const auto& p : pts) box.grow(p);
-    Vec3d best = box.center();
+    return box.center();
+}
+
+// The sphere of a leaf's triangle corners. `iterated`, when given, is
+// badoiu_clarkson(pts, box centre), computed by the caller.
+Sphere enclose(const std::vector<Vec3d>& pts, bool tight, double margin, const Vec3d* iterated = nullptr) {
+    Vec3d best = box_centre(pts);
     double best_r = radius_about(best, pts);
     if (tight) {
         std::vector<Vec3d> cands;
@@ -64,19 +130,8 @@ Sphere enclose(const std::vector<Vec3d>& pts, bool tight, double margin) {
             exact = triangle_min_sphere(pts[0], pts[1], pts[2], c);
             if (exact) cands.push_back(c);
         }
-        // Badoiu-Clarkson: step toward the farthest point, converges to the
-        // minimum sphere (not needed when a lone triangle's is known exactly).
-        if (!exact) {
-            Vec3d c = best;
-            for (int i = 1; i <= 64; ++i) {
-                const Vec3d* far = &pts[0];
-                double d2 = -1;
-                for (const auto& p : pts)
-                    if (dot(p - c, p - c) > d2) { d2 = dot(p - c, p - c); far = &p; }
-                c = c + (*far - c) / double(i + 1);
-            }
-            cands.push_back(c);
-        }
+        // not needed when a lone triangle's smallest sphere is known exactly
+        if (!exact) cands.push_back(iterated ? *iterated : badoiu_clarkson(pts, best));
         for (const auto& cc : cands) {
             double r = radius_about(cc, pts);
             if (r < best_r) { best_r = r; best = cc; }
@@ -142,22 +197,55 @@ SphereSet build_spheres(const Mesh& mesh, int tris_per_sphere, const std::string
     s.triangles.resize(nt);
     s.tri_mesh_index.resize(nt);
     s.tri_sphere.resize(nt);
-    parallel_for(ns, threads, [&](std::size_t j) {
-        const auto [lo, hi] = leaves[j];
-        // within a sphere, triangles keep mesh order
-        std::sort(idx.begin() + static_cast<std::ptrdiff_t>(lo), idx.begin() + static_cast<std::ptrdiff_t>(hi));
-        thread_local std::vector<Vec3d> pts;
-        pts.clear();
-        s.first_tri[j] = static_cast<std::uint32_t>(lo);
-        s.tri_count[j] = static_cast<std::uint32_t>(hi - lo);
-        for (std::size_t i = lo; i < hi; ++i) {
-            const std::uint32_t t = idx[i];
-            for (int c = 0; c < 3; ++c) pts.push_back(to_d(mesh.corner(t, c)));
-            s.triangles[i] = make_triangle_record(mesh, t);
-            s.tri_mesh_index[i] = static_cast<std::int32_t>(t);
-            s.tri_sphere[i] = static_cast<std::uint32_t>(j);
+    // Spheres in blocks of four: four that iterate over as many points run
+    // Badoiu-Clarkson together, one per vector lane.
+    parallel_for((ns + 3) / 4, threads, [&](std::size_t block) {
+        thread_local std::vector<Vec3d> pts[4];
+        const std::size_t j0 = block * 4, count = std::min<std::size_t>(4, ns - j0);
+        for (std::size_t b = 0; b < count; ++b) {
+            const std::size_t j = j0 + b;
+            const auto [lo, hi] = leaves[j];
+            // within a sphere, triangles keep mesh order
+            std::sort(idx.begin() + static_cast<std::ptrdiff_t>(lo), idx.begin() + static_cast<std::ptrdiff_t>(hi));
+            pts[b].clear();
+            s.first_tri[j] = static_cast<std::uint32_t>(lo);
+            s.tri_count[j] = static_cast<std::uint32_t>(hi - lo);
+            for (std::size_t i = lo; i < hi; ++i) {
+                const std::uint32_t t = idx[i];
+                for (int c = 0; c < 3; ++c) pts[b].push_back(to_d(mesh.corner(t, c)));
+                s.triangles[i] = make_triangle_record(mesh, t);
+                s.tri_mesh_index[i] = static_cast<std::int32_t>(t);
+                s.tri_sphere[i] = static_cast<std::uint32_t>(j);
+            }
         }
-        s.spheres[j] = enclose(pts, tight, margin);
+        bool together = count == 4;
+        for (std::size_t b = 0; together && b < 4; ++b)
+            together = pts[b].size() == pts[0].size() && needs_iteration(pts[b], tight);
+        if (!together) {
+            for (std::size_t b = 0; b < count; ++b) s.spheres[j0 + b] = enclose(pts[b], tight, margin);
+            return;
+        }
+        const std::size_t m = pts[0].size();
+        thread_local std::vector<double> flat;
+        flat.resize(12 * m);
+        for (std::size_t q = 0; q < m; ++q)
+            for (std::size_t b = 0; b < 4; ++b) {
+                flat[12 * q + b] = pts[b][q].x;
+                flat[12 * q + 4 + b] = pts[b][q].y;
+                flat[12 * q + 8 + b] = pts[b][q].z;
+            }
+        double c[12];
+        for (std::size_t b = 0; b < 4; ++b) {
+            const Vec3d start = box_centre(pts[b]);
+            c[b] = start.x;
+            c[4 + b] = start.y;
+            c[8 + b] = start.z;
+        }
+        badoiu_clarkson4(flat.data(), m, c);
+        for (std::size_t b = 0; b < 4; ++b) {
+            const Vec3d iterated{c[b], c[4 + b], c[8 + b]};
+            s.spheres[j0 + b] = enclose(pts[b], tight, margin, &iterated);
+        }
     });
     return s;
 }
