@@ -145,8 +145,17 @@ Sphere enclose(const std::vector<Vec3d>& pts, bool tight, double margin, const V
     return s;
 }
 
+// Median split of idx[lo, hi) along the longest axis of its centroids' box,
+// leaves of k. The halves are the k-rounded lower and upper parts of the
+// range in the order (centroid on the axis, triangle index), a strict total
+// order: they are sets fixed by the input alone, so neither the selection
+// algorithm nor the thread count changes a leaf. Each range's keys are
+// copied next to their indices before the selection (no indirection while
+// it runs), and the two halves of a big range are split on two threads
+// while `threads` allows.
 void split(std::vector<std::uint32_t>& idx, std::size_t lo, std::size_t hi, std::size_t k,
-           const std::vector<Vec3d>& centroid, std::vector<std::pair<std::size_t, std::size_t>>& leaves) {
+           const std::vector<Vec3d>& centroid, std::vector<std::pair<std::size_t, std::size_t>>& leaves,
+           unsigned threads) {
     std::size_t n = hi - lo;
     if (n <= k) {
         leaves.emplace_back(lo, hi);
@@ -158,15 +167,31 @@ void split(std::vector<std::uint32_t>& idx, std::size_t lo, std::size_t hi, std:
     int axis = e.x >= e.y && e.x >= e.z ? 0 : (e.y >= e.z ? 1 : 2);
     std::size_t half = (n / 2 + k - 1) / k * k;  // leaves stay full
     if (half >= n) half = n - k;
-    auto mid = idx.begin() + static_cast<std::ptrdiff_t>(lo + half);
-    std::nth_element(idx.begin() + static_cast<std::ptrdiff_t>(lo), mid, idx.begin() + static_cast<std::ptrdiff_t>(hi),
-                     [&](std::uint32_t a, std::uint32_t b) {
-                         double ca = centroid[a][static_cast<std::size_t>(axis)];
-                         double cb = centroid[b][static_cast<std::size_t>(axis)];
-                         return ca < cb || (ca == cb && a < b);
-                     });
-    split(idx, lo, lo + half, k, centroid, leaves);
-    split(idx, lo + half, hi, k, centroid, leaves);
+    struct Key {
+        double c;
+        std::uint32_t i;
+        bool operator<(const Key& o) const { return c < o.c || (c == o.c && i < o.i); }
+    };
+    thread_local std::vector<Key> keys;
+    keys.resize(n);
+    for (std::size_t j = 0; j < n; ++j) {
+        const std::uint32_t t = idx[lo + j];
+        keys[j] = {centroid[t][static_cast<std::size_t>(axis)], t};
+    }
+    std::nth_element(keys.begin(), keys.begin() + static_cast<std::ptrdiff_t>(half), keys.end());
+    for (std::size_t j = 0; j < n; ++j) idx[lo + j] = keys[j].i;
+    if (threads > 1 && n > 8192) {
+        std::vector<std::pair<std::size_t, std::size_t>> right;
+        const unsigned left_threads = threads / 2;
+        parallel_for(2, 2, [&](std::size_t side) {
+            if (side == 0) split(idx, lo, lo + half, k, centroid, leaves, left_threads);
+            else split(idx, lo + half, hi, k, centroid, right, threads - left_threads);
+        });
+        leaves.insert(leaves.end(), right.begin(), right.end());
+        return;
+    }
+    split(idx, lo, lo + half, k, centroid, leaves, 1);
+    split(idx, lo + half, hi, k, centroid, leaves, 1);
 }
 
 }  // namespace
@@ -183,7 +208,7 @@ SphereSet build_spheres(const Mesh& mesh, int tris_per_sphere, const std::string
         std::vector<Vec3d> centroid(nt);
         for (std::size_t i = 0; i < nt; ++i)
             centroid[i] = (to_d(mesh.corner(i, 0)) + to_d(mesh.corner(i, 1)) + to_d(mesh.corner(i, 2))) / 3.0;
-        split(idx, 0, nt, k, centroid, leaves);
+        split(idx, 0, nt, k, centroid, leaves, threads);
     } else {
         for (std::size_t lo = 0; lo < nt; lo += k) leaves.emplace_back(lo, std::min(nt, lo + k));
     }

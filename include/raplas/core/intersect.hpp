@@ -491,7 +491,7 @@ inline bool rays_certainly_miss_triangle_native(const T o[3], T tmin, T tmax, co
                             std::max(std::fabs(double(box.lo[1])), std::fabs(double(box.hi[1]))),
                             std::max(std::fabs(double(box.lo[2])), std::fabs(double(box.hi[2])))};
     // exact range of D.w over the box (up to double rounding, covered by the slack below)
-    auto range = [&](const double w[3], double& lo, double& hi) {
+    auto range = [&](const double w[3], double& lo, double& hi) __attribute__((always_inline)) {
         lo = hi = 0;
         for (int i = 0; i < 3; ++i) {
             const double a = double(box.lo[i]) * w[i], b = double(box.hi[i]) * w[i];
