@@ -124,7 +124,9 @@ void expect_all_pairless(std::uint32_t e) {
     EXPECT_EQ(r.iccs[0].planeid_fifo.pushes, S);
     EXPECT_EQ(r.iccs[0].planeid_fifo.max_occupancy, 1u);
     EXPECT_EQ(r.iccs[0].triangle_fifo.pushes, S);
-    if (e <= 1) EXPECT_EQ(r.iccs[0].triangle_fifo.max_occupancy, 1u);
+    if (e <= 1) {
+        EXPECT_EQ(r.iccs[0].triangle_fifo.max_occupancy, 1u);
+    }
 }
 }  // namespace
 
