@@ -38,9 +38,6 @@ struct ImplT final : Tracer::Impl {
         std::vector<PlaneA<A>> planes;
         planes.reserve(g.planes.size());
         for (const auto& p : g.planes) planes.push_back(load(a, p));
-        std::vector<RayA<A>> rays(std::size_t(n) * n);
-        for (std::uint32_t v = 0; v < n; ++v)
-            for (std::uint32_t h = 0; h < n; ++h) rays[v * n + h] = load(a, group_ray(g, h, v));
         out.hits.assign(std::size_t(n) * n, Hit{});
         out.counts = GroupCounts{};
         out.sphere_list.clear();
@@ -74,10 +71,14 @@ struct ImplT final : Tracer::Impl {
         out.counts.sphere_hits = list.size();
         if constexpr (kNative) {
             if (!per_ray && rti_of(a) == RtiTest::division_free) {
-                triangles_by_row(g, rays, list, out);
+                triangles_by_row(g, list, out);
                 return;
             }
         }
+        thread_local std::vector<RayA<A>> rays;
+        rays.resize(std::size_t(n) * n);
+        for (std::uint32_t v = 0; v < n; ++v)
+            for (std::uint32_t h = 0; h < n; ++h) rays[v * n + h] = load(a, group_ray(g, h, v));
         for (const SphereHitRec& hit : list) {
             const std::uint64_t rows = hit.rows, cols = hit.cols;
             const auto [t0, t1] = triangles_tested(hit, out);
@@ -116,13 +117,26 @@ struct ImplT final : Tracer::Impl {
     // Every ray of a group shares the origin and (tmin, tmax).
     static constexpr bool kNative = std::is_same_v<A, ArithF32> || std::is_same_v<A, ArithF64>;
 
-    void triangles_by_row(const RayGroup& g, const std::vector<RayA<A>>& rays, const std::vector<SphereHitRec>& list,
-                          GroupResult& out) const {
+    void triangles_by_row(const RayGroup& g, const std::vector<SphereHitRec>& list, GroupResult& out) const {
+        if (list.empty()) return;
         const std::uint32_t n = g.n;
+        // The rays' directions by component, as load(a, group_ray(g, h, v))
+        // gives them (a native format converts each float as it is); all
+        // rays share the origin and (tmin, tmax) of ray 0.
         thread_local std::vector<T> dx, dy, dz, tt;
-        directions_by_component(rays, dx, dy, dz);
+        dx.resize(std::size_t(n) * n);
+        dy.resize(std::size_t(n) * n);
+        dz.resize(std::size_t(n) * n);
+        for (std::uint32_t v = 0; v < n; ++v)
+            for (std::uint32_t h = 0; h < n; ++h) {
+                const Ray r = group_ray(g, h, v);
+                const std::size_t i = std::size_t(v) * n + h;
+                dx[i] = a.cvt(r.d.x);
+                dy[i] = a.cvt(r.d.y);
+                dz[i] = a.cvt(r.d.z);
+            }
         tt.resize(std::size_t(n) * n);
-        const RayA<A>& r0 = rays[0];
+        const RayA<A> r0 = load(a, group_ray(g, 0, 0));
         thread_local GroupDirectionBoxes<T> boxes;
         boxes.build(dx, dy, dz, n);
         std::uint64_t hits[64];
