@@ -53,15 +53,19 @@ void directions_by_component(const std::vector<RayA<A>>& rays, std::vector<typen
 
 // The direction bounds of the rays of a sphere's rows x columns in an N x N group, for
 // rays_certainly_miss_triangle_native: each row's and each column's box are computed once per
-// group; the rays of H x V lie inside the union of H's row boxes and inside the union of V's
-// column boxes, so inside their intersection. No bound (finite() false) when a direction is
-// not finite.
+// group; the rays of H x V lie inside the union of the boxes of H's rows from its lowest to
+// its highest and inside the union of those of V's columns, so inside their intersection.
+// Unions of runs of 2^k rows (columns) are kept too, so that any span's box is the union of
+// two of them. No bound (finite() false) when a direction is not finite.
 template <class T>
 class GroupDirectionBoxes {
 public:
     void build(const std::vector<T>& dx, const std::vector<T>& dy, const std::vector<T>& dz, std::uint32_t n) {
-        rows_.assign(n, empty());
-        cols_.assign(n, empty());
+        n_ = n;
+        levels_ = 1;
+        while ((std::uint32_t(1) << levels_) <= n) ++levels_;
+        rows_.assign(std::size_t(levels_) * n, empty());
+        cols_.assign(std::size_t(levels_) * n, empty());
         finite_ = true;
         for (std::uint32_t v = 0; v < n; ++v)
             for (std::uint32_t h = 0; h < n; ++h) {
@@ -73,13 +77,20 @@ public:
                     widen(cols_[h], c, d[c], d[c]);
                 }
             }
+        for (std::uint32_t k = 1; k < levels_; ++k) {
+            const std::uint32_t half = std::uint32_t(1) << (k - 1);
+            for (std::uint32_t i = 0; i + 2 * half <= n; ++i)
+                for (auto* t : {&rows_, &cols_}) {
+                    DirectionBox<T> b = (*t)[std::size_t(k - 1) * n + i];
+                    add(b, (*t)[std::size_t(k - 1) * n + i + half]);
+                    (*t)[std::size_t(k) * n + i] = b;
+                }
+        }
     }
     bool finite() const { return finite_; }
     // rows, cols: non-empty masks
     DirectionBox<T> of(std::uint64_t rows, std::uint64_t cols) const {
-        DirectionBox<T> r = empty(), c = empty();
-        for (; rows; rows &= rows - 1) add(r, rows_[std::size_t(__builtin_ctzll(rows))]);
-        for (; cols; cols &= cols - 1) add(c, cols_[std::size_t(__builtin_ctzll(cols))]);
+        DirectionBox<T> r = span(rows_, rows), c = span(cols_, cols);
         for (int k = 0; k < 3; ++k) {
             r.lo[k] = std::max(r.lo[k], c.lo[k]);
             r.hi[k] = std::min(r.hi[k], c.hi[k]);
@@ -88,6 +99,14 @@ public:
     }
 
 private:
+    // The union of the boxes from the lowest to the highest bit of `mask`.
+    DirectionBox<T> span(const std::vector<DirectionBox<T>>& t, std::uint64_t mask) const {
+        const auto lo = std::uint32_t(__builtin_ctzll(mask)), hi = 63 - std::uint32_t(__builtin_clzll(mask));
+        const std::uint32_t k = 31 - std::uint32_t(__builtin_clz(hi - lo + 1));
+        DirectionBox<T> b = t[std::size_t(k) * n_ + lo];
+        add(b, t[std::size_t(k) * n_ + hi + 1 - (std::uint32_t(1) << k)]);
+        return b;
+    }
     static DirectionBox<T> empty() {
         DirectionBox<T> b;
         for (int k = 0; k < 3; ++k) {
@@ -103,7 +122,8 @@ private:
     static void add(DirectionBox<T>& b, const DirectionBox<T>& o) {
         for (int k = 0; k < 3; ++k) widen(b, k, o.lo[k], o.hi[k]);
     }
-    std::vector<DirectionBox<T>> rows_, cols_;
+    std::vector<DirectionBox<T>> rows_, cols_;  // level k, index i: the union of [i, i + 2^k)
+    std::uint32_t n_ = 0, levels_ = 0;
     bool finite_ = false;
 };
 
