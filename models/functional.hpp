@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "raplas/frontend/trace_io.hpp"
 
@@ -31,6 +32,17 @@ public:
     // for every row): the caller may skip those tests. False when it cannot tell.
     virtual bool rti_certain_miss(std::uint64_t rows, std::uint64_t cols, std::uint32_t tri) const = 0;
 
+    // rti_row for every row v of `rows` of an n x n group: hits[v] its mask,
+    // t[v * n + h] the distance of each hit. A unit may answer all rows at
+    // once (the same answers); by default, row by row.
+    virtual void rti_rows(std::uint64_t rows, std::uint64_t cols, std::uint32_t tri, std::uint32_t n,
+                          std::uint64_t* hits, double* t) {
+        for (std::uint64_t rm = rows; rm; rm &= rm - 1) {
+            const std::uint32_t v = std::uint32_t(__builtin_ctzll(rm));
+            hits[v] = rti_row(v, cols, tri, t + std::size_t(v) * n);
+        }
+    }
+
     // The Ray-Triangle Intersector's tests of one selected triangle against
     // the rays of rows x cols (groups of n x n rays), in test order (rows
     // ascending, then columns): hit(ray, t) for each hit; returns their number.
@@ -38,13 +50,16 @@ public:
     std::uint64_t rti_tests(std::uint64_t rows, std::uint64_t cols, std::uint32_t tri, std::uint32_t n, F&& hit) {
         if (!rows || !cols || rti_certain_miss(rows, cols, tri)) return 0;
         std::uint64_t hits = 0;
-        double t[64];
+        std::uint64_t hm[64];
+        thread_local std::vector<double> t;
+        t.resize(std::size_t(n) * n);
+        rti_rows(rows, cols, tri, n, hm, t.data());
         for (std::uint64_t rm = rows; rm; rm &= rm - 1) {
             const std::uint32_t v = std::uint32_t(__builtin_ctzll(rm));
-            for (std::uint64_t hm = rti_row(v, cols, tri, t); hm; hm &= hm - 1) {
-                const std::uint32_t h = std::uint32_t(__builtin_ctzll(hm));
+            for (std::uint64_t m = hm[v]; m; m &= m - 1) {
+                const std::uint32_t h = std::uint32_t(__builtin_ctzll(m));
                 ++hits;
-                hit(v * n + h, t[h]);
+                hit(v * n + h, t[std::size_t(v) * n + h]);
             }
         }
         return hits;
