@@ -99,7 +99,9 @@ __attribute__((target("avx2"))) bool rows_avx2(const typename W::T o[3], typenam
         const std::uint32_t v = std::uint32_t(__builtin_ctzll(rm));
         std::uint64_t row = 0;
         for (std::uint32_t h = h0; h < h1; h += W::L) {
-            const std::uint32_t valid = h1 - h;
+            // Whole vectors while the row has room (lanes past the last column
+            // of `cols` are computed and dropped); a partial one at its end.
+            const std::uint32_t valid = n - h;
             const std::size_t i = std::size_t(v) * n + h;
             const V d0 = W::load(dx + i, valid), d1 = W::load(dy + i, valid), d2 = W::load(dz + i, valid);
             const V cx = W::sub(W::mul(d1, vtz), W::mul(d2, vty));
