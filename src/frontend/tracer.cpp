@@ -111,10 +111,10 @@ struct ImplT final : Tracer::Impl {
         return {t0, t1};
     }
 
-    // Native formats, division-free test: each triangle of a hit sphere against whole rows of the
-    // group at once (rays_hit_triangle_native, vectorised, bit-identical to
-    // the ray-by-ray test); only the columns of the sphere's mask are kept.
-    // Every ray of a group shares the origin and (tmin, tmax).
+    // Native formats, division-free test: each triangle of a hit sphere against all the rows of
+    // the sphere's mask at once (rows_hit_triangle, vectorised, bit-identical to the ray-by-ray
+    // test); only the columns of the sphere's mask are kept. Every ray of a group shares the
+    // origin and (tmin, tmax).
     static constexpr bool kNative = std::is_same_v<A, ArithF32> || std::is_same_v<A, ArithF64>;
 
     void triangles_by_row(const RayGroup& g, const std::vector<SphereHitRec>& list, GroupResult& out) const {
