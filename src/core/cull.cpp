@@ -11,21 +11,14 @@ namespace raplas::cull_detail {
 
 namespace {
 
-// GCC vector types: 4 doubles or 8 floats in one AVX2 register (two SSE2
-// registers in the baseline clone). Every lane does the scalar code's IEEE
-// operations in the same order (no FMA: -ffp-contract=off), so the results
-// are those of the scalar tests, lane for lane.
+// GCC vector types of N lanes of T: a leaf's 8 floats fill one AVX2 register
+// (8 doubles two; the baseline clone uses SSE2 registers). Every lane does
+// the scalar code's IEEE operations in the same order (no FMA:
+// -ffp-contract=off), so the results are those of the scalar tests, lane for
+// lane.
 template <class T, int N>
 struct Vec {
     typedef T type __attribute__((vector_size(N * sizeof(T))));
-};
-template <int N>
-struct Vec<std::int64_t, N> {
-    typedef std::int64_t type __attribute__((vector_size(N * 8)));
-};
-template <int N>
-struct Vec<std::int32_t, N> {
-    typedef std::int32_t type __attribute__((vector_size(N * 4)));
 };
 
 // The helpers are always inlined, so no vector crosses a call; GCC warns
@@ -52,10 +45,6 @@ __attribute__((always_inline)) inline V abs_v(V x) {
     std::memcpy(&x, &bits, sizeof(V));
     return x;
 }
-
-}  // namespace
-
-namespace {
 
 // plane_misses_node over planes [first, first + count), four per AVX2
 // vector: the same operations in the same order, so the same answers.
