@@ -7,6 +7,8 @@
 #include <type_traits>
 #include <utility>
 
+#include "raplas/core/cpu.hpp"
+
 namespace raplas::cull_detail {
 
 namespace {
@@ -81,16 +83,11 @@ std::uint64_t planes_may_hit_scalar(const PlanesD& p, std::uint32_t first, std::
     return m;
 }
 
-bool has_avx2() {
-    __builtin_cpu_init();  // may run before the constructors that would call it
-    return __builtin_cpu_supports("avx2");
-}
-
 }  // namespace
 
 std::uint64_t planes_may_hit_node(const PlanesD& p, std::uint32_t first, std::uint32_t count,
                                   const SphereTree::Node& nd, const ArithBounds& b) {
-    static const bool avx2 = has_avx2();
+    const bool avx2 = cpu_has_avx2();
     return avx2 ? planes_may_hit_avx2(p, first, count, nd, b) : planes_may_hit_scalar(p, first, count, nd, b);
 }
 

@@ -2,6 +2,8 @@
 
 #include <immintrin.h>
 
+#include "raplas/core/cpu.hpp"
+
 namespace raplas {
 
 __attribute__((target_clones("avx2", "default"))) bool row_hits(const float o[3], float tmin, float tmax,
@@ -151,24 +153,19 @@ bool rows_generic(const T o[3], T tmin, T tmax, const T* dx, const T* dy, const 
     return any;
 }
 
-bool has_avx2() {
-    __builtin_cpu_init();  // may run before the constructors that would call it
-    return __builtin_cpu_supports("avx2");
-}
-
 }  // namespace
 
 bool rows_hit_triangle(const float o[3], float tmin, float tmax, const float* dx, const float* dy, const float* dz,
                        std::uint32_t n, std::uint64_t rows, std::uint64_t cols, const TriA<ArithF32>& tr,
                        std::uint64_t* hits, float* t) {
-    static const bool avx2 = has_avx2();
+    const bool avx2 = cpu_has_avx2();
     if (avx2 && cols) return rows_avx2<Lanes8f>(o, tmin, tmax, dx, dy, dz, n, rows, cols, tr, hits, t);
     return rows_generic(o, tmin, tmax, dx, dy, dz, n, rows, cols, tr, hits, t);
 }
 bool rows_hit_triangle(const double o[3], double tmin, double tmax, const double* dx, const double* dy,
                        const double* dz, std::uint32_t n, std::uint64_t rows, std::uint64_t cols,
                        const TriA<ArithF64>& tr, std::uint64_t* hits, double* t) {
-    static const bool avx2 = has_avx2();
+    const bool avx2 = cpu_has_avx2();
     if (avx2 && cols) return rows_avx2<Lanes4d>(o, tmin, tmax, dx, dy, dz, n, rows, cols, tr, hits, t);
     return rows_generic(o, tmin, tmax, dx, dy, dz, n, rows, cols, tr, hits, t);
 }
