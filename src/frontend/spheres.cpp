@@ -150,10 +150,17 @@ Sphere enclose(const std::vector<Vec3d>& pts, bool tight, double margin, const V
 // range in the order (centroid on the axis, triangle index), a strict total
 // order: they are sets fixed by the input alone, so neither the selection
 // algorithm nor the thread count changes a leaf. Each range's keys are
-// copied next to their indices before the selection (no indirection while
-// it runs), and the two halves of a big range are split on two threads
-// while `threads` allows.
-void split(std::vector<std::uint32_t>& idx, std::size_t lo, std::size_t hi, std::size_t k,
+// copied next to their indices before the selection, so that none is looked
+// up while it runs. `keys` has one entry per triangle, a range's in its own
+// positions, so the two halves of a big range can be split on two threads
+// while `threads` allows; it lives only while the spheres are built.
+struct SplitKey {
+    double c;
+    std::uint32_t i;
+    bool operator<(const SplitKey& o) const { return c < o.c || (c == o.c && i < o.i); }
+};
+
+void split(std::vector<std::uint32_t>& idx, std::vector<SplitKey>& keys, std::size_t lo, std::size_t hi, std::size_t k,
            const std::vector<Vec3d>& centroid, std::vector<std::pair<std::size_t, std::size_t>>& leaves,
            unsigned threads) {
     std::size_t n = hi - lo;
@@ -167,31 +174,22 @@ void split(std::vector<std::uint32_t>& idx, std::size_t lo, std::size_t hi, std:
     int axis = e.x >= e.y && e.x >= e.z ? 0 : (e.y >= e.z ? 1 : 2);
     std::size_t half = (n / 2 + k - 1) / k * k;  // leaves stay full
     if (half >= n) half = n - k;
-    struct Key {
-        double c;
-        std::uint32_t i;
-        bool operator<(const Key& o) const { return c < o.c || (c == o.c && i < o.i); }
-    };
-    thread_local std::vector<Key> keys;
-    keys.resize(n);
-    for (std::size_t j = 0; j < n; ++j) {
-        const std::uint32_t t = idx[lo + j];
-        keys[j] = {centroid[t][static_cast<std::size_t>(axis)], t};
-    }
-    std::nth_element(keys.begin(), keys.begin() + static_cast<std::ptrdiff_t>(half), keys.end());
-    for (std::size_t j = 0; j < n; ++j) idx[lo + j] = keys[j].i;
+    for (std::size_t j = lo; j < hi; ++j) keys[j] = {centroid[idx[j]][static_cast<std::size_t>(axis)], idx[j]};
+    const auto first = keys.begin() + static_cast<std::ptrdiff_t>(lo);
+    std::nth_element(first, first + static_cast<std::ptrdiff_t>(half), first + static_cast<std::ptrdiff_t>(n));
+    for (std::size_t j = lo; j < hi; ++j) idx[j] = keys[j].i;
     if (threads > 1 && n > 8192) {
         std::vector<std::pair<std::size_t, std::size_t>> right;
         const unsigned left_threads = threads / 2;
         parallel_for(2, 2, [&](std::size_t side) {
-            if (side == 0) split(idx, lo, lo + half, k, centroid, leaves, left_threads);
-            else split(idx, lo + half, hi, k, centroid, right, threads - left_threads);
+            if (side == 0) split(idx, keys, lo, lo + half, k, centroid, leaves, left_threads);
+            else split(idx, keys, lo + half, hi, k, centroid, right, threads - left_threads);
         });
         leaves.insert(leaves.end(), right.begin(), right.end());
         return;
     }
-    split(idx, lo, lo + half, k, centroid, leaves, 1);
-    split(idx, lo + half, hi, k, centroid, leaves, 1);
+    split(idx, keys, lo, lo + half, k, centroid, leaves, 1);
+    split(idx, keys, lo + half, hi, k, centroid, leaves, 1);
 }
 
 }  // namespace
@@ -208,7 +206,8 @@ SphereSet build_spheres(const Mesh& mesh, int tris_per_sphere, const std::string
         std::vector<Vec3d> centroid(nt);
         for (std::size_t i = 0; i < nt; ++i)
             centroid[i] = (to_d(mesh.corner(i, 0)) + to_d(mesh.corner(i, 1)) + to_d(mesh.corner(i, 2))) / 3.0;
-        split(idx, 0, nt, k, centroid, leaves, threads);
+        std::vector<SplitKey> keys(nt);
+        split(idx, keys, 0, nt, k, centroid, leaves, threads);
     } else {
         for (std::size_t lo = 0; lo < nt; lo += k) leaves.emplace_back(lo, std::min(nt, lo + k));
     }
