@@ -89,15 +89,15 @@ public:
                       double* t) override {
             if constexpr (kNative) {
                 // all rows at once, as the front end's tracer tests them
-                if (rti_of(f_.a_) == RtiTest::division_free && cols) {
+                if (rti_of(f_.a_) == RtiTest::division_free) {
                     const RayA<A>& r0 = rays_[0];
                     tt_.resize(std::size_t(n) * n);
                     rows_hit_triangle(r0.o, r0.tmin, r0.tmax, dx_.data(), dy_.data(), dz_.data(), n, rows, cols,
                                       f_.tris_[tri], hits, tt_.data());
                     for (std::uint64_t rm = rows; rm; rm &= rm - 1) {
-                        const std::size_t base = std::size_t(__builtin_ctzll(rm)) * n;
-                        for (std::uint64_t m = hits[base / n]; m; m &= m - 1) {
-                            const std::size_t i = base + std::size_t(__builtin_ctzll(m));
+                        const std::size_t v = std::size_t(__builtin_ctzll(rm));
+                        for (std::uint64_t m = hits[v]; m; m &= m - 1) {
+                            const std::size_t i = v * n + std::size_t(__builtin_ctzll(m));
                             t[i] = static_cast<double>(tt_[i]);
                         }
                     }
@@ -109,15 +109,9 @@ public:
 
         bool rti_certain_miss(std::uint64_t rows, std::uint64_t cols, std::uint32_t tri) const override {
             if constexpr (kNative) {
-                // The proof costs about as much as four vectors of rays: a mask
-                // that few vectors cover is tested instead (as the tracer does).
-                using T = typename A::T;
-                constexpr std::uint32_t kLanes = 32 / sizeof(T);
-                const std::uint32_t span = rows && cols ? std::uint32_t(64 - __builtin_clzll(cols)) -
-                                                              std::uint32_t(__builtin_ctzll(cols))
-                                                        : 0;
-                if (std::uint32_t(bit_count(rows)) * ((span + kLanes - 1) / kLanes) <= 4) return false;
-                if (rti_of(f_.a_) == RtiTest::division_free && boxes_.finite()) {
+                // (as the tracer: small masks are tested instead)
+                if (rti_of(f_.a_) == RtiTest::division_free && boxes_.finite() &&
+                    miss_proof_pays<typename A::T>(rows, cols)) {
                     const RayA<A>& r0 = rays_[0];
                     return rays_certainly_miss_triangle_native(r0.o, r0.tmin, r0.tmax, boxes_.of(rows, cols),
                                                                f_.tris_[tri]);

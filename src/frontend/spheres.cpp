@@ -101,13 +101,6 @@ __attribute__((target_clones("avx2", "default"))) void badoiu_clarkson4(const do
     std::memcpy(c + 8, &cz, sizeof(V));
 }
 
-// Whether enclose() runs Badoiu-Clarkson for these points (it does not for
-// one non-degenerate triangle, whose smallest sphere is known exactly).
-bool needs_iteration(const std::vector<Vec3d>& pts, bool tight) {
-    Vec3d c;
-    return tight && !(pts.size() == 3 && triangle_min_sphere(pts[0], pts[1], pts[2], c));
-}
-
 Vec3d box_centre(const std::vector<Vec3d>& pts) {
     Aabb box;
     for (const auto& p : pts) box.grow(p);
@@ -242,9 +235,9 @@ SphereSet build_spheres(const Mesh& mesh, int tris_per_sphere, const std::string
                 s.tri_sphere[i] = static_cast<std::uint32_t>(j);
             }
         }
-        bool together = count == 4;
-        for (std::size_t b = 0; together && b < 4; ++b)
-            together = pts[b].size() == pts[0].size() && needs_iteration(pts[b], tight);
+        // (a lone triangle's smallest sphere is mostly known exactly: enclose() decides)
+        bool together = tight && count == 4 && pts[0].size() != 3;
+        for (std::size_t b = 1; together && b < 4; ++b) together = pts[b].size() == pts[0].size();
         if (!together) {
             for (std::size_t b = 0; b < count; ++b) s.spheres[j0 + b] = enclose(pts[b], tight, margin);
             return;

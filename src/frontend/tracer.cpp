@@ -140,16 +140,11 @@ struct ImplT final : Tracer::Impl {
         thread_local GroupDirectionBoxes<T> boxes;
         boxes.build(dx, dy, dz, n);
         std::uint64_t hits[64];
-        constexpr std::uint32_t kLanes = 32 / sizeof(T);  // rows_hit_triangle's vector width (AVX2)
         for (const SphereHitRec& rec : list) {
             const std::uint64_t rows = rec.rows, cols = rec.cols;
             const auto [t0, t1] = triangles_tested(rec, out);
-            // Triangles no ray of H x V can hit (a proof) are not tested: same
-            // answers, less work. The proof costs about as much as four vectors
-            // of rays, so a mask that few vectors cover is tested directly.
-            const std::uint32_t span = std::uint32_t(64 - __builtin_clzll(cols)) - std::uint32_t(__builtin_ctzll(cols));
-            const std::uint32_t vectors = std::uint32_t(bit_count(rows)) * ((span + kLanes - 1) / kLanes);
-            const bool prove = boxes.finite() && vectors > 4;
+            // triangles no ray of H x V can hit (a proof) are not tested: same answers, less work
+            const bool prove = boxes.finite() && miss_proof_pays<T>(rows, cols);
             DirectionBox<T> box;
             if (prove) box = boxes.of(rows, cols);
             for (std::uint32_t t = t0; t < t1; ++t) {

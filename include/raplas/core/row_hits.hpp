@@ -13,6 +13,7 @@
 #include <limits>
 #include <vector>
 
+#include "raplas/core/bits.hpp"
 #include "raplas/core/intersect.hpp"
 
 namespace raplas {
@@ -36,6 +37,18 @@ bool rows_hit_triangle(const float o[3], float tmin, float tmax, const float* dx
 bool rows_hit_triangle(const double o[3], double tmin, double tmax, const double* dx, const double* dy,
                        const double* dz, std::uint32_t n, std::uint64_t rows, std::uint64_t cols,
                        const TriA<ArithF64>& tr, std::uint64_t* hits, double* t);
+
+// Whether rays_certainly_miss_triangle_native is worth asking before rows_hit_triangle for a
+// sphere's rows x cols: the proof costs about as much as four vectors of rays (8 floats or 4
+// doubles each, AVX2), so a mask that at most four vectors cover is tested directly. The answers
+// are the same either way.
+template <class T>
+inline bool miss_proof_pays(std::uint64_t rows, std::uint64_t cols) {
+    if (!rows || !cols) return false;
+    constexpr std::uint32_t lanes = 32 / sizeof(T);
+    const std::uint32_t span = std::uint32_t(64 - __builtin_clzll(cols)) - std::uint32_t(__builtin_ctzll(cols));
+    return std::uint32_t(bit_count(rows)) * ((span + lanes - 1) / lanes) > 4;
+}
 
 // The rays' directions by component (dx[i], dy[i], dz[i]), as row_hits takes them.
 template <class A>
