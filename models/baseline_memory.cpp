@@ -190,7 +190,15 @@ SimResult simulate_system(GroupSource& groups, const SimConfig& cfg, MemoryStats
         if ((i < primary ? i : i - primary) % k == 0) pe_bound += std::exchange(pass_max, 0);
         pass_max = std::max(pass_max, group_rti_cycles(group_work(t, g, i < primary, cfg.icc.decoder.select), cfg));
     });
-    SimResult r = simulate(groups, cfg, opt);
+    SimResult r;
+    {
+        // The observers (this bound, and the caller's: the workload's counts
+        // and hash) run on their own thread, off the model's.
+        ObserveAhead ahead(groups);
+        r = simulate(groups, cfg, opt);
+        ahead.stop();
+        r.observers_cpu_s = ahead.cpu_s();
+    }
     groups.observers.pop_back();
     stats = MemoryStats{};
     if (!r.error.empty()) return r;  // the caller reports it

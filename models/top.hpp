@@ -66,6 +66,7 @@ struct SimResult {
     // model's thread waited for groups not yet handed over, and for a pass's
     // groups to be loaded (by itself or by the load started a pass ahead).
     double model_cpu_s = 0, loads_cpu_s = 0, model_waits_s = 0, load_waits_s = 0;
+    double observers_cpu_s = 0;  // the workload's observers, on their own thread (ObserveAhead)
     // Why the simulation stopped early ("watchdog: ..." or an error inside the
     // model); empty when it finished. Reported here rather than thrown: under
     // AddressSanitizer, Debian's SystemC leaves the main thread's stack

@@ -346,7 +346,8 @@ nlohmann::json sim_json(const SimReportInput& in) {
         j["wall"]["cpu_s"] = in.cpu_s;
         j["wall"]["model_cpu_s"] = r.model_cpu_s;
         j["wall"]["loads_cpu_s"] = r.loads_cpu_s;
-        j["wall"]["frontend_cpu_s"] = std::max(0.0, in.cpu_s - r.model_cpu_s - r.loads_cpu_s);
+        j["wall"]["observers_cpu_s"] = r.observers_cpu_s;
+        j["wall"]["frontend_cpu_s"] = std::max(0.0, in.cpu_s - r.model_cpu_s - r.loads_cpu_s - r.observers_cpu_s);
         j["wall"]["model_waits_s"] = r.model_waits_s;
         j["wall"]["load_waits_s"] = r.load_waits_s;
         j["wall"]["frontend_waits_s"] = in.frontend_waits_s;

@@ -9,12 +9,64 @@ namespace raplas {
 
 void GroupSource::release(std::size_t end) {
     if (end <= released_) return;
-    for (std::size_t i = released_; i < end; ++i) {
-        const TraceGroup& g = group(i);
-        for (const auto& fn : observers) fn(i, g);
+    if (ahead_) {
+        ahead_->wait_observed(end);
+    } else {
+        for (std::size_t i = released_; i < end; ++i) {
+            const TraceGroup& g = group(i);
+            for (const auto& fn : observers) fn(i, g);
+        }
     }
     released_ = end;
     free_below(end);
+}
+
+ObserveAhead::ObserveAhead(GroupSource& source) : source_(source) {
+    if (source_.observers.empty() || source_.ahead_) return;  // (nothing to run, or already ahead)
+    observed_ = source_.released_;
+    source_.ahead_ = this;
+    thread_ = std::thread([this] { run(); });
+}
+
+ObserveAhead::~ObserveAhead() { stop(); }
+
+void ObserveAhead::stop() {
+    if (!thread_.joinable()) return;
+    stop_ = true;
+    source_.wake();
+    thread_.join();
+    source_.ahead_ = nullptr;
+}
+
+void ObserveAhead::run() {
+    try {
+        for (std::size_t i = observed_; source_.wait_there(i, stop_); ++i) {
+            const TraceGroup& g = source_.group(i);
+            for (const auto& fn : source_.observers) fn(i, g);
+            {
+                std::lock_guard<std::mutex> lock(mutex_);
+                observed_ = i + 1;
+            }
+            cv_.notify_all();
+        }
+    } catch (...) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        error_ = std::current_exception();
+    }
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        ended_ = true;
+        cpu_s_ = thread_cpu_s();
+    }
+    cv_.notify_all();
+}
+
+void ObserveAhead::wait_observed(std::size_t end) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    cv_.wait(lock, [&] { return observed_ >= end || ended_; });
+    if (error_) std::rethrow_exception(error_);
+    if (observed_ < end)
+        throw std::logic_error("ObserveAhead: group " + std::to_string(observed_) + " released before it was there");
 }
 
 GroupStream::GroupStream(std::size_t window) : window_(std::max<std::size_t>(1, window)), slots_(window_), ready_(window_, 0) {}
@@ -152,6 +204,19 @@ const TraceGroup& GroupStream::group(std::size_t i) {
     if (i < free_point_ || i >= free_point_ + window_ || !ready_[i % window_])
         throw std::logic_error("GroupStream: group " + std::to_string(i) + " read before it was waited for");
     return slots_[i % window_];
+}
+
+bool GroupStream::wait_there(std::size_t i, const std::atomic<bool>& stop) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    // (group i's slot holds group i only once the groups a window before it are freed)
+    auto there = [&] { return i >= free_point_ && i < free_point_ + window_ && ready_[i % window_]; };
+    cv_.wait(lock, [&] { return there() || failure_ || cancelled_ || stop; });
+    return there();
+}
+
+void GroupStream::wake() {
+    { std::lock_guard<std::mutex> lock(mutex_); }  // (a waiter checks `stop` with the lock held)
+    cv_.notify_all();
 }
 
 void GroupStream::free_below(std::size_t end) {

@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -37,10 +38,13 @@ struct Consumer {
     std::vector<std::string> groups;  // each group in a one-group trace's bytes
     std::string hash;
     std::uint64_t total = 0;
-    void run(GroupStream& s, bool pairless) {
+    // ahead: the observers on their own thread (ObserveAhead)
+    void run(GroupStream& s, bool pairless, bool ahead = false) {
         const Trace& h = s.header();
         WorkloadTally tally(h, pairless);
         s.observers.push_back(tally.observer());
+        std::optional<ObserveAhead> observing;
+        if (ahead) observing.emplace(s);
         for (std::size_t i = 0;; ++i) {
             if (s.total_known() && i == s.total_groups()) break;
             if (i >= h.primary_groups) {
@@ -55,6 +59,7 @@ struct Consumer {
             s.release(i + 1);
         }
         total = s.total_groups();
+        if (observing) observing->stop();
         EXPECT_EQ(tally.groups, total);
         hash = tally.hasher.value();
     }
@@ -70,13 +75,14 @@ TEST(GroupStream, HandsOverTheWholeFramesGroupsInOrderWithinItsWindow) {
         const Trace whole = make_trace(scene, render_frame(scene, fo), fo.format, pairless);
         ASSERT_GT(whole.groups.size(), whole.primary_groups + 10u);
         for (const std::size_t window : {std::size_t(1), std::size_t(3), std::size_t(7)}) {
+          for (const bool ahead : {false, true}) {
             GroupStream stream(window);
             FrameOptions so = fo;
             so.stream = &stream;
             Frame streamed_frame;
             std::thread front([&] { streamed_frame = render_frame(scene, so); });
             Consumer c;
-            c.run(stream, pairless);
+            c.run(stream, pairless, ahead);
             front.join();
             EXPECT_EQ(c.total, whole.groups.size());
             ASSERT_EQ(c.groups.size(), whole.groups.size());
@@ -93,8 +99,63 @@ TEST(GroupStream, HandsOverTheWholeFramesGroupsInOrderWithinItsWindow) {
             EXPECT_TRUE(streamed_frame.shadow.empty());
             EXPECT_TRUE(streamed_frame.primary_results.empty());
             EXPECT_EQ(streamed_frame.rgb, render_frame(scene, FrameOptions{}).rgb);
+          }
         }
     }
+}
+
+// Observers running ahead see every group once, in issue order, no later than
+// its release and no earlier than it is there; they stop with the run, also
+// when the front end failed and a group never comes.
+TEST(GroupStream, ObserversAheadSeeEachGroupInOrderBeforeItsRelease) {
+    GroupStream s(3);
+    Trace h;
+    h.primary_groups = 6;
+    s.set_header(std::move(h));
+    std::vector<std::size_t> seen;
+    std::atomic<std::size_t> count{0};
+    s.observers.push_back([&](std::size_t i, const TraceGroup& g) {
+        EXPECT_EQ(g.n, std::uint32_t(i + 1));
+        seen.push_back(i);
+        ++count;
+    });
+    {
+        ObserveAhead ahead(s);
+        for (std::size_t i = 0; i < 3; ++i) {
+            s.acquire(i);
+            TraceGroup g;
+            g.n = std::uint32_t(i + 1);
+            s.put(i, std::move(g));
+        }
+        ASSERT_TRUE(s.wait_for(2));
+        s.release(2);  // waits until groups 0 and 1 were observed
+        EXPECT_GE(count.load(), 2u);
+        EXPECT_LE(count.load(), 3u);  // never a group that is not there (3 is not)
+        s.acquire(3);
+        TraceGroup g;
+        g.n = 4;
+        s.put(3, std::move(g));
+        ASSERT_TRUE(s.wait_for(4));
+        s.release(4);
+        EXPECT_EQ(count.load(), 4u);
+        try {  // the front end fails: group 4 never comes, and the run ends
+            throw InputError("scene.toml: too much");
+        } catch (const InputError& e) {
+            s.fail(std::current_exception(), e.what());
+        }
+    }  // (the thread waiting for group 4 stops here)
+    EXPECT_EQ(seen, (std::vector<std::size_t>{0, 1, 2, 3}));
+    // Without the thread, release() runs the observers itself.
+    GroupStream t(2);
+    t.set_header(Trace{});
+    std::size_t inline_seen = 0;
+    t.observers.push_back([&](std::size_t, const TraceGroup&) { ++inline_seen; });
+    t.acquire(0);
+    t.put(0, TraceGroup{});
+    ASSERT_TRUE(t.wait_for(1));
+    EXPECT_EQ(inline_seen, 0u);
+    t.release(1);
+    EXPECT_EQ(inline_seen, 1u);
 }
 
 TEST(GroupStream, AFailingFrontEndEndsTheModelsWaitsWithItsMessage) {

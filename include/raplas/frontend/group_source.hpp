@@ -4,12 +4,14 @@
 // window of groups in memory (docs/MEMORY.md, "Streaming").
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <exception>
 #include <functional>
 #include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "raplas/frontend/trace_io.hpp"
@@ -45,15 +47,57 @@ public:
     // is handed to every observer, in issue order, and then may be freed.
     void release(std::size_t end);
     std::size_t released() const { return released_; }
-    // Called for every group as it is released (from the thread that
-    // releases it): what the reports fold over the whole workload.
+    // Called for every group, in issue order, as it is released (from the
+    // thread that releases it), or, while an ObserveAhead runs, from its
+    // thread as soon as the group is there: what the reports fold over the
+    // whole workload.
     std::vector<std::function<void(std::size_t, const TraceGroup&)>> observers;
 
 protected:
     virtual void free_below(std::size_t end) = 0;
+    // For ObserveAhead's thread: waits until group i is there (true), or
+    // until `stop` is set or the source stopped first (false).
+    virtual bool wait_there(std::size_t i, const std::atomic<bool>& stop) = 0;
+    // Wakes every wait_there (its caller has set `stop`).
+    virtual void wake() {}
 
 private:
+    friend class ObserveAhead;
     std::size_t released_ = 0;
+    class ObserveAhead* ahead_ = nullptr;
+};
+
+// While it lives, the observers of `source` run on a thread of their own,
+// each group handed to them as soon as it is there, in issue order; release()
+// then only waits (if need be) until they have seen the groups it frees. The
+// figures they fold are the same; the thread that releases the groups (the
+// model's) no longer spends its time on them. Destroying it stops the thread:
+// give it the scope of the run whose groups it observes.
+class ObserveAhead {
+public:
+    explicit ObserveAhead(GroupSource& source);
+    ~ObserveAhead();
+    ObserveAhead(const ObserveAhead&) = delete;
+    ObserveAhead& operator=(const ObserveAhead&) = delete;
+    // Waits until the observers have seen every group below `end`; rethrows
+    // an observer's exception.
+    void wait_observed(std::size_t end);
+    // Stops the thread (as destroying it does).
+    void stop();
+    // CPU seconds its thread used, once stopped.
+    double cpu_s() const { return cpu_s_; }
+
+private:
+    void run();
+    GroupSource& source_;
+    std::atomic<bool> stop_{false};
+    std::mutex mutex_;
+    std::condition_variable cv_;
+    std::size_t observed_ = 0;
+    bool ended_ = false;  // the thread has stopped (the source stopped, or an observer threw)
+    std::exception_ptr error_;
+    double cpu_s_ = 0;
+    std::thread thread_;
 };
 
 // A trace held whole: nothing waits, nothing is freed.
@@ -65,6 +109,7 @@ public:
     bool wait_total() override { return true; }
     std::uint64_t total_groups() override { return t_.groups.size(); }
     bool wait_for(std::size_t end) override { return end <= t_.groups.size(); }
+    bool wait_there(std::size_t i, const std::atomic<bool>&) override { return i < t_.groups.size(); }
     bool has(std::size_t end) override { return end <= t_.groups.size(); }
     const TraceGroup& group(std::size_t i) override { return t_.groups.at(i); }
 
@@ -142,6 +187,8 @@ public:
 
 protected:
     void free_below(std::size_t end) override;
+    bool wait_there(std::size_t i, const std::atomic<bool>& stop) override;
+    void wake() override;
 
 private:
     // Front end side: returns once ready, throws Cancelled when the stream stopped.
