@@ -143,6 +143,47 @@ int cmd_render(const SceneOptions& so_in, std::string out_png, bool out_given, c
 // Groups the front end of `raplas trace` may trace ahead of the writer.
 constexpr std::uint32_t kTraceWindowGroups = 256;
 
+}  // namespace
+
+bool write_streamed_trace(GroupStream& stream, TraceWriter& w, double& waited_s) {
+    struct Stopped {};  // the front end stopped: it says why
+    auto wait = [&](auto&& ready) {
+        const auto w0 = std::chrono::steady_clock::now();
+        const bool ok = ready();
+        waited_s += since(w0);
+        if (!ok) throw Stopped{};
+    };
+    try {
+        const Trace* header = nullptr;
+        wait([&] {
+            try {
+                header = &stream.header();
+                return true;
+            } catch (...) {
+                return false;
+            }
+        });
+        w.header(*header);
+        const std::uint64_t primary = header->primary_groups;
+        for (std::uint64_t i = 0;; ++i) {
+            if (i == primary) {
+                wait([&] { return stream.wait_total(); });
+                w.total(stream.total_groups());
+            }
+            if (i >= primary && i == stream.total_groups()) break;
+            wait([&] { return stream.wait_for(std::size_t(i + 1)); });
+            w.group(stream.group(std::size_t(i)));
+            stream.release(std::size_t(i + 1));
+        }
+        w.finish();
+    } catch (const Stopped&) {
+        return false;
+    }
+    return true;
+}
+
+namespace {
+
 int cmd_trace(const SceneOptions& so, const std::string& out, const std::string& json, const std::string& select) {
     NumFormat fmt = so.parsed_format();
     Scene scene;
@@ -176,34 +217,7 @@ int cmd_trace(const SceneOptions& so, const std::string& out, const std::string&
             TraceWriter w([&](const char* p, std::size_t n) {
                 if (!f.write(p, std::streamsize(n))) throw InputError(out + ": cannot write the trace: " + std::strerror(errno));
             });
-            auto wait = [&](auto&& ready) {
-                const auto w0 = std::chrono::steady_clock::now();
-                const bool ok = ready();
-                wait_s += since(w0);
-                if (!ok) throw Stopped{};
-            };
-            const Trace* header = nullptr;
-            wait([&] {
-                try {
-                    header = &stream.header();
-                    return true;
-                } catch (...) {
-                    return false;
-                }
-            });
-            w.header(*header);
-            const std::uint64_t primary = header->primary_groups;
-            for (std::uint64_t i = 0;; ++i) {
-                if (i == primary) {
-                    wait([&] { return stream.wait_total(); });
-                    w.total(stream.total_groups());
-                }
-                if (i >= primary && i == stream.total_groups()) break;
-                wait([&] { return stream.wait_for(std::size_t(i + 1)); });
-                w.group(stream.group(std::size_t(i)));
-                stream.release(std::size_t(i + 1));
-            }
-            w.finish();
+            if (!write_streamed_trace(stream, w, wait_s)) throw Stopped{};  // (no file is left)
             f.close();
             if (!f) throw InputError(out + ": cannot write the trace: " + std::strerror(errno));
             bytes = w.bytes();

@@ -67,7 +67,10 @@ void add_simulate_options(CLI::App* cmd, SimulateArgs& a) {
                     "simulate frames of the scene's animation, each in its own process: N (frames 0 to N-1), A:B "
                     "(both included) or all; the JSON gets a frames array and totals, the CSV a row per frame "
                     "(docs/ANIMATION.md)");
-    cmd->add_option("--jobs,-j", a.jobs, "with --frames: frames simulated at once (default: the number of cores)")
+    cmd->add_option("--jobs,-j", a.jobs,
+                    "with --frames: frames simulated at once (default: the number of cores); on one frame: N shard "
+                    "processes simulate its passes at once, fed by one front end, and their results are merged into "
+                    "exactly the whole run's (default 1; docs/SHARDING.md)")
         ->check(CLI::Range(1u, 1024u));
     cmd->add_flag("--animation-row", a.animation_row,
                   "--csv writes one row with the columns frames, worst_frame, worst_frame_cycles and "
@@ -93,11 +96,16 @@ int cmd_simulate(const SimulateArgs& a) {
     const ParamSet named = mp;  // what the reports call config_name
     SceneOptions so = a.so;
     const ParamSet sp = scene_params();
+    std::vector<std::string> config_args;  // the machine config's options, for shard processes (--jobs)
+    if (!a.config.empty()) config_args.insert(config_args.end(), {"--config", a.config});
     for (const auto& s : a.config_sets) {
         const auto [set, assignment] = route_assignment(s, {&mp, &sp});
-        if (set == 0) mp.set(assignment);
+        if (set == 0) mp.set(assignment), config_args.insert(config_args.end(), {"--set", assignment});
         else so.sets.push_back(assignment);
     }
+    if (a.iccs) config_args.insert(config_args.end(), {"--iccs", std::to_string(a.iccs)});
+    if (a.fifo) config_args.insert(config_args.end(), {"--fifo", std::to_string(a.fifo)});
+    config_args.insert(config_args.end(), {"--window", std::to_string(a.window)});
     if (a.iccs) mp.set("machine.iccs=" + std::to_string(a.iccs));
     if (a.fifo) {
         mp.set("fifo.sphere_depth=" + std::to_string(a.fifo));
@@ -118,6 +126,19 @@ int cmd_simulate(const SimulateArgs& a) {
         if (a.whole_frame) throw UsageError("--sample-front-end needs a streamed run: not with --whole-frame");
         if (cfg.memory.system != model::MemorySystem::streaming)
             throw UsageError("--sample-front-end needs memory.system = streaming (a baseline reads every group)");
+    }
+    // --jobs N on one frame: N shard processes fed by this one's front end.
+    const std::uint32_t local_jobs = a.frames.empty() ? a.jobs : 0;
+    if (local_jobs > 1) {
+        const std::string option = "--jobs " + std::to_string(local_jobs);
+        if (!a.shard.empty()) throw InputError(option + ": runs every shard itself; not with --shard");
+        if (!a.vcd.empty()) throw InputError(option + ": no --vcd (a waveform covers a whole run: simulate it whole)");
+        if (a.whole_frame) throw InputError(option + ": streams the trace to its shards; not with --whole-frame");
+        if (so.frame >= 0) throw InputError(option + ": not with --frame (simulate the frame whole, or its animation with --frames)");
+        if (a.animation_row) throw InputError(option + ": not with --animation-row (a row of an animation: use --frames)");
+        check_shardable(cfg, option);
+        check_result_path("--json", a.json, {});
+        check_result_path("--csv", a.csv, {});
     }
     const bool sharded = !a.shard.empty();
     ShardSpec shard;
@@ -238,6 +259,27 @@ int cmd_simulate(const SimulateArgs& a) {
         check_model(cfg, trace);
         source = std::make_unique<TraceSource>(trace);
     }
+    // The front end failed: what it says, and (a trace damaged late in the
+    // stream) what was done before it.
+    auto report_front_end = [&] {
+        const std::string done = trace_reader ? " (stopped after " + std::to_string(trace_reader->groups_read()) +
+                                                    " ray groups were read; no result written)"
+                                              : "";
+        std::cerr << "raplas: " << (frontend.input_error() ? "error: " : "internal error: ") << frontend.error()
+                  << done << "\n";
+        return frontend.input_error() ? kExitInputError : kExitInternalError;
+    };
+    if (local_jobs > 1) {
+        LocalShards run;
+        run.jobs = local_jobs;
+        run.child_args = config_args;
+        run.json = a.json;
+        run.csv = a.csv;
+        run.quiet = so.quiet;
+        const int rc = simulate_local_shards(run, *stream, frontend);
+        if (stream_progress) stream_progress->finish();
+        return rc == kFrontEndFailed ? report_front_end() : rc;
+    }
     const Trace& header = source->header();
 
     model::SimOptions opt;
@@ -265,15 +307,7 @@ int cmd_simulate(const SimulateArgs& a) {
         // else it is stopped. Its own failure is the one to report.
         if (!result.error.empty()) stream->cancel();
         frontend.join();
-        if (!frontend.error().empty()) {
-            // A trace damaged late in the stream: what was done before it.
-            const std::string done = trace_reader ? " (stopped after " + std::to_string(trace_reader->groups_read()) +
-                                                        " ray groups were read; no result written)"
-                                                  : "";
-            std::cerr << "raplas: " << (frontend.input_error() ? "error: " : "internal error: ") << frontend.error()
-                      << done << "\n";
-            return frontend.input_error() ? kExitInputError : kExitInternalError;
-        }
+        if (!frontend.error().empty()) return report_front_end();
     }
     if (!result.error.empty()) {  // printed, not thrown: see SimResult::error
         const bool watchdog = result.error.rfind("watchdog", 0) == 0;

@@ -303,20 +303,8 @@ int simulate_frames(const SimulateArgs& a, const SceneOptions& so_in) {
     const std::vector<std::string> common = frame_run_args(a, a.so.threads ? a.so.threads : std::max(1u, core_count() / jobs));
 
     // The frames' results and logs, in a temporary directory removed at the end.
-    const char* tmp_env = std::getenv("TMPDIR");
-    const std::string dir_template = std::string(tmp_env && *tmp_env ? tmp_env : "/tmp") + "/raplas-frames-XXXXXX";
-    std::vector<char> buf(dir_template.begin(), dir_template.end());
-    buf.push_back('\0');
-    if (!::mkdtemp(buf.data()))
-        throw InputError("--frames: cannot make a temporary directory " + dir_template + ": " + std::strerror(errno));
-    const std::string dir(buf.data());
-    struct Cleanup {
-        std::string d;
-        ~Cleanup() {
-            std::error_code ec;
-            fs::remove_all(d, ec);
-        }
-    } cleanup{dir};
+    const TempDir temp("frames", "--frames");
+    const std::string& dir = temp.path();
     auto result_of = [&](int f) { return dir + "/frame-" + std::to_string(f) + ".json"; };
     auto log_of = [&](int f) { return dir + "/frame-" + std::to_string(f) + ".log"; };
 

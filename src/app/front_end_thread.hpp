@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "raplas/frontend/group_source.hpp"
+#include "raplas/frontend/trace_io.hpp"
 #include "raplas/util/error.hpp"
 #include "raplas/util/priority.hpp"
 
@@ -62,5 +63,12 @@ private:
     std::string error_;
     bool input_ = false;
 };
+
+// Writes the groups `stream` hands over to `w` as they come, in issue order:
+// the header, the groups, TOTAL after the primary ones, then END
+// (docs/TRACE.md), releasing each group once written. False when the front
+// end stopped first (its FrontEndThread says why); `waited_s` adds the
+// seconds spent waiting for it.
+bool write_streamed_trace(GroupStream& stream, TraceWriter& w, double& waited_s);
 
 }  // namespace raplas

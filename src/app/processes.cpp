@@ -10,7 +10,9 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <stdexcept>
 #include <thread>
@@ -55,7 +57,7 @@ std::string format_duration(double s) {
     return buf;
 }
 
-pid_t spawn_self(const std::vector<std::string>& args, const std::string& log) {
+pid_t spawn_self(const std::vector<std::string>& args, const std::string& log, int stdin_fd) {
     std::vector<std::string> argv{"raplas"};
     argv.insert(argv.end(), args.begin(), args.end());
     std::vector<char*> cargv;
@@ -71,7 +73,7 @@ pid_t spawn_self(const std::vector<std::string>& args, const std::string& log) {
         ::prctl(PR_SET_PDEATHSIG, SIGKILL);
         if (::getppid() != parent) ::_exit(kExitInternalError);
         if (nullfd >= 0) {
-            ::dup2(nullfd, 0);
+            ::dup2(stdin_fd >= 0 ? stdin_fd : nullfd, 0);
             ::dup2(nullfd, 1);
         }
         ::dup2(logfd, 2);
@@ -89,6 +91,21 @@ pid_t spawn_self(const std::vector<std::string>& args, const std::string& log) {
     if (nullfd >= 0) ::close(nullfd);
     if (pid < 0) throw std::runtime_error(std::string("fork: ") + std::strerror(err));
     return pid;
+}
+
+TempDir::TempDir(const std::string& name, const std::string& option) {
+    const char* tmp_env = std::getenv("TMPDIR");
+    const std::string dir_template = std::string(tmp_env && *tmp_env ? tmp_env : "/tmp") + "/raplas-" + name + "-XXXXXX";
+    std::vector<char> buf(dir_template.begin(), dir_template.end());
+    buf.push_back('\0');
+    if (!::mkdtemp(buf.data()))
+        throw InputError(option + ": cannot make a temporary directory " + dir_template + ": " + std::strerror(errno));
+    path_ = buf.data();
+}
+
+TempDir::~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
 }
 
 std::string last_line(const std::string& path) {

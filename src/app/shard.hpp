@@ -47,6 +47,25 @@ int emit_shard_jobs(const SimulateArgs& a, const ParamSet& mp, const model::SimC
 // in a directory that does not exist, or one of the `parts` read.
 void check_result_path(const std::string& option, const std::string& out, const std::vector<std::string>& parts);
 
+// `raplas simulate --jobs N` on one frame: the front end (or the trace read)
+// feeding `stream` on `frontend`'s thread is written as a trace to N shard
+// processes, `raplas simulate --trace /dev/stdin CHILD_ARGS --shard I/N`,
+// run at once; their parts are merged into `json` / `csv` (what simulate
+// would write), and the run's summary printed unless `quiet`. Returns the
+// exit code: the merge's, or the first failed shard's (one line on stderr;
+// nothing written), or kFrontEndFailed when the front end failed (its
+// FrontEndThread says why; nothing written).
+struct LocalShards {
+    std::uint32_t jobs = 2;
+    std::vector<std::string> child_args;  // the machine config's options, as simulate was given them
+    std::string json, csv;
+    bool quiet = false;
+};
+class GroupStream;
+class FrontEndThread;
+constexpr int kFrontEndFailed = -1;
+int simulate_local_shards(const LocalShards& run, GroupStream& stream, FrontEndThread& frontend);
+
 struct MergeArgs {
     std::vector<std::string> parts;
     std::string json, csv;

@@ -275,6 +275,48 @@ TEST_F(Shard, EmittedJobsRunLineByLineAsASlurmArrayAndMergeToTheWholeRun) {
     EXPECT_THAT(slurp(dir / "jobs2"), HasSubstr("/out.json.d/shard-1-of-2.json"));
 }
 
+// --jobs N: one front end streams its trace to N shard processes at once, and
+// the merged result is the whole run's, from a scene or a trace, with a
+// mismatch too; a failing shard stops the run with one line and no result.
+TEST_F(Shard, JobsOnOneMachineAddUpToTheWholeRun) {
+    const std::vector<std::string> config{"--iccs", "3", "--fifo", "4"};
+    for (const bool mismatch : {false, true}) {
+        SCOPED_TRACE(mismatch ? "with a wrong RTI answer" : "exact");
+        const std::vector<std::string> cfg =
+            mismatch ? plus(config, {"--set", "sim.fault=wrong_rti", "--set", "sim.fault_icc=1"}) : config;
+        const int code = mismatch ? 1 : 0;
+        const Outcome w = fork_raplas(plus(plus(plus({"simulate"}, kShardScene), cfg), {"--json", "whole.json", "--csv", "whole.csv", "-q"}));
+        ASSERT_EQ(w.code, code) << w.err;
+        for (const auto& [input, jobs] : {std::pair<std::vector<std::string>, std::string>{kShardScene, "3"},
+                                          {{"--trace", "t.trace"}, "2"}}) {
+            SCOPED_TRACE("--jobs " + jobs);
+            fs::remove(dir / "j.json");
+            fs::remove(dir / "j.csv");
+            const RunResult j = run(plus(plus(plus({"simulate"}, input), cfg), {"--jobs", jobs, "--json", "j.json", "--csv", "j.csv", "-q"}));
+            ASSERT_EQ(j.code, code) << j.err;
+            EXPECT_EQ(differences(load(dir / "whole.json"), load(dir / "j.json")), "[]");
+            EXPECT_EQ(slurp(dir / "j.csv"), slurp(dir / "whole.csv"));
+            EXPECT_EQ(load(dir / "j.json")["wall"]["shards"], std::stoi(jobs));
+        }
+    }
+    // A shard that fails (a stuck RTI: the watchdog) stops the run: one line naming it, no result.
+    fs::remove(dir / "j.json");
+    const RunResult stuck = run(plus(plus(plus({"simulate"}, kShardScene), config),
+                                     {"--set", "sim.fault=stuck_rti", "--set", "sim.watchdog_cycles=20000", "--jobs", "2",
+                                      "--json", "j.json"}));
+    EXPECT_EQ(stuck.code, 2);
+    EXPECT_THAT(stuck.err, HasSubstr("shard 0/2 (exit 2): watchdog:"));
+    EXPECT_EQ(lines_of(stuck.err).size(), 1u) << stuck.err;
+    EXPECT_FALSE(fs::exists(dir / "j.json"));
+    // What cannot be run that way is refused up front.
+    for (const auto& extra : {std::vector<std::string>{"--vcd", "w.vcd"}, {"--shard", "0/2"}, {"--whole-frame"}}) {
+        const RunResult bad = run(plus(plus({"simulate"}, kShardScene), plus({"--jobs", "2", "--json", "j.json"}, extra)));
+        EXPECT_EQ(bad.code, 2) << extra[0];
+        EXPECT_THAT(bad.err, HasSubstr("--jobs 2: ")) << extra[0];
+        EXPECT_EQ(lines_of(bad.err).size(), 1u) << bad.err;
+    }
+}
+
 TEST_F(Shard, EmittedJobsOfATraceHaveNoTracePhase) {
     const RunResult e = run({"simulate", "--trace", "t.trace", "--shards", "2", "--emit-jobs", "jobs", "--csv", "out.csv"});
     ASSERT_EQ(e.code, 0) << e.err;

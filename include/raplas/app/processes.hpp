@@ -24,10 +24,24 @@ unsigned core_count();
 // "m:ss", or "h:mm:ss" from an hour on.
 std::string format_duration(double seconds);
 // Starts `raplas ARGS` (this very executable) with stdin and stdout on
-// /dev/null and stderr into `log`; the child dies with its parent
-// (PR_SET_PDEATHSIG), so a killed run leaves no workers. Block SIGCHLD
-// around the calls to wait for it.
-pid_t spawn_self(const std::vector<std::string>& args, const std::string& log);
+// /dev/null (stdin on `stdin_fd` when given) and stderr into `log`; the child
+// dies with its parent (PR_SET_PDEATHSIG), so a killed run leaves no workers.
+// Block SIGCHLD around the calls to wait for it.
+pid_t spawn_self(const std::vector<std::string>& args, const std::string& log, int stdin_fd = -1);
+// A temporary directory ($TMPDIR, else /tmp) named raplas-NAME-XXXXXX,
+// removed with everything in it when this goes; InputError naming `option`
+// when it cannot be made.
+class TempDir {
+public:
+    TempDir(const std::string& name, const std::string& option);
+    ~TempDir();
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+    const std::string& path() const { return path_; }
+
+private:
+    std::string path_;
+};
 // The last non-blank line of a text file ("" if none).
 std::string last_line(const std::string& path);
 // A child's wait status as "exit N" or "killed by signal N".
