@@ -145,7 +145,8 @@ constexpr std::uint32_t kTraceWindowGroups = 256;
 
 }  // namespace
 
-bool write_streamed_trace(GroupStream& stream, TraceWriter& w, double& waited_s) {
+bool write_streamed_trace(GroupStream& stream, TraceWriter& w, double& waited_s,
+                          const std::function<void(std::uint64_t, std::uint64_t)>& written) {
     struct Stopped {};  // the front end stopped: it says why
     auto wait = [&](auto&& ready) {
         const auto w0 = std::chrono::steady_clock::now();
@@ -174,6 +175,7 @@ bool write_streamed_trace(GroupStream& stream, TraceWriter& w, double& waited_s)
             wait([&] { return stream.wait_for(std::size_t(i + 1)); });
             w.group(stream.group(std::size_t(i)));
             stream.release(std::size_t(i + 1));
+            if (written) written(i + 1, i >= primary || stream.total_known() ? stream.total_groups() : primary);
         }
         w.finish();
     } catch (const Stopped&) {

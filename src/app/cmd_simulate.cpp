@@ -227,7 +227,7 @@ int cmd_simulate(const SimulateArgs& a) {
             // fo.before_shadow, called on the front end's thread, keeps a pointer to the scene.
             streamed_scene = std::move(scene);
             check_front_end(FrontEndUse::simulate_streamed, streamed_scene, fo, &cfg, a.window);
-            if (so.show_progress()) {
+            if (so.show_progress() && local_jobs <= 1) {  // (--jobs draws its own)
                 stream_progress = std::make_unique<StreamProgress>(::isatty(2));
                 fo.progress = [p = stream_progress.get()](const char* phase, std::size_t done, std::size_t total) {
                     p->front_end(phase, done, total);
@@ -276,6 +276,8 @@ int cmd_simulate(const SimulateArgs& a) {
         run.json = a.json;
         run.csv = a.csv;
         run.quiet = so.quiet;
+        run.progress = so.show_progress();
+        run.tty = ::isatty(2);
         const int rc = simulate_local_shards(run, *stream, frontend);
         if (stream_progress) stream_progress->finish();
         return rc == kFrontEndFailed ? report_front_end() : rc;

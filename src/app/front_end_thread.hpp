@@ -68,7 +68,10 @@ private:
 // the header, the groups, TOTAL after the primary ones, then END
 // (docs/TRACE.md), releasing each group once written. False when the front
 // end stopped first (its FrontEndThread says why); `waited_s` adds the
-// seconds spent waiting for it.
-bool write_streamed_trace(GroupStream& stream, TraceWriter& w, double& waited_s);
+// seconds spent waiting for it. `written`, if given, is told after each group
+// how many are written and of how many (the primary groups until the total
+// is known).
+bool write_streamed_trace(GroupStream& stream, TraceWriter& w, double& waited_s,
+                          const std::function<void(std::uint64_t written, std::uint64_t total)>& written = {});
 
 }  // namespace raplas

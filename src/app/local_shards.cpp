@@ -17,6 +17,7 @@
 #include <utility>
 
 #include "raplas/app/processes.hpp"
+#include "raplas/app/progress.hpp"
 #include "raplas/util/error.hpp"
 
 namespace raplas {
@@ -96,6 +97,10 @@ int simulate_local_shards(const LocalShards& run, GroupStream& stream, FrontEndT
 
     // The trace, as the front end makes it, to every shard (each takes its
     // passes and skips the others'; the slowest sets the pace).
+    // (each shard holds a window of passes: the groups handed over lead its
+    // simulation by no more, so they show the run's progress)
+    ProgressLine line(run.progress, run.tty);
+    const std::string unit = "ray groups to " + std::to_string(n) + " shards";
     std::optional<std::size_t> gone;
     try {
         TraceWriter w([&](const char* p, std::size_t bytes) {
@@ -103,11 +108,15 @@ int simulate_local_shards(const LocalShards& run, GroupStream& stream, FrontEndT
                 if (!write_all(pipes[i], p, bytes)) throw ShardGone{i};
         });
         double waited_s = 0;
-        write_streamed_trace(stream, w, waited_s);  // (false: the front end stopped, and says why below)
+        // (false: the front end stopped, and says why below)
+        write_streamed_trace(stream, w, waited_s, [&](std::uint64_t done, std::uint64_t total) {
+            line.draw(std::size_t(done), std::size_t(total), unit, "", std::size_t(done), std::size_t(total));
+        });
     } catch (const ShardGone& g) {
         gone = g.shard;
         stream.cancel();
     }
+    line.finish();
     for (int& fd : pipes) ::close(std::exchange(fd, -1));  // (a shard whose trace ends early fails: it is not reported)
     frontend.join();
 
@@ -140,7 +149,7 @@ int simulate_local_shards(const LocalShards& run, GroupStream& stream, FrontEndT
     m.json = run.json;
     m.csv = run.csv;
     m.quiet = run.quiet;
-    if (m.json.empty() && m.csv.empty()) m.json = temp.path() + "/merged.json";  // (the summary only)
+    m.summary_only = true;
     return cmd_merge(m);
 }
 

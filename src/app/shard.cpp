@@ -388,7 +388,8 @@ void add_merge_options(CLI::App* cmd, MergeArgs& a) {
 int cmd_merge(const MergeArgs& a) {
     if (a.parts.empty()) throw InputError("merge: give the partial results of simulate --shard I/N, every shard's --json");
     if (is_frame_result(a.parts[0])) return merge_frames(a);
-    if (a.json.empty() && a.csv.empty()) throw InputError("merge: give --json OUT.json, --csv OUT.csv or both");
+    if (a.json.empty() && a.csv.empty() && !a.summary_only)
+        throw InputError("merge: give --json OUT.json, --csv OUT.csv or both");
     check_result_path("--json", a.json, a.parts);
     check_result_path("--csv", a.csv, a.parts);
     std::vector<Part> parts;

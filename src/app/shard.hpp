@@ -60,6 +60,7 @@ struct LocalShards {
     std::vector<std::string> child_args;  // the machine config's options, as simulate was given them
     std::string json, csv;
     bool quiet = false;
+    bool progress = false, tty = false;  // a progress line on stderr (the groups handed to the shards), on a terminal or not
 };
 class GroupStream;
 class FrontEndThread;
@@ -70,6 +71,7 @@ struct MergeArgs {
     std::vector<std::string> parts;
     std::string json, csv;
     bool quiet = false;
+    bool summary_only = false;  // neither --json nor --csv needed: the summary is the output (simulate --jobs)
 };
 void add_merge_options(CLI::App* cmd, MergeArgs& a);
 int cmd_merge(const MergeArgs& a);

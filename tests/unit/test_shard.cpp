@@ -299,6 +299,12 @@ TEST_F(Shard, JobsOnOneMachineAddUpToTheWholeRun) {
             EXPECT_EQ(load(dir / "j.json")["wall"]["shards"], std::stoi(jobs));
         }
     }
+    // Without --json and --csv the summary is the output; --progress follows the groups handed over.
+    const RunResult plain = run(plus(plus(plus({"simulate"}, kShardScene), config), {"--jobs", "2", "--progress"}));
+    ASSERT_EQ(plain.code, 0) << plain.err;
+    EXPECT_EQ(plain.out.rfind("merged 2 shards (", 0), 0u) << plain.out;
+    EXPECT_THAT(plain.out, HasSubstr(" cycles = "));
+    EXPECT_THAT(plain.err, HasSubstr(" ray groups to 2 shards"));
     // A shard that fails (a stuck RTI: the watchdog) stops the run: one line naming it, no result.
     fs::remove(dir / "j.json");
     const RunResult stuck = run(plus(plus(plus({"simulate"}, kShardScene), config),
