@@ -279,7 +279,6 @@ int cmd_simulate(const SimulateArgs& a) {
         run.progress = so.show_progress();
         run.tty = ::isatty(2);
         const int rc = simulate_local_shards(run, *stream, frontend);
-        if (stream_progress) stream_progress->finish();
         return rc == kFrontEndFailed ? report_front_end() : rc;
     }
     const Trace& header = source->header();
