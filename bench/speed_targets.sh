@@ -17,15 +17,19 @@
 #      docs/PERFORMANCE.md). --hd-sample F: the same frames with
 #      sim.estimate = sample_passes, fraction F, and --sample-front-end
 #      (minutes). With --hd or --hd-sample only these frames are run.
+#      --hd-jobs N: the exact frames with simulate --jobs N (N shard processes
+#      fed by one front end, docs/SHARDING.md); then the peak memory is the
+#      whole process tree's, summed every 2 s.
 # The front end against Embree is bench/bench_frontend.cpp (see PERFORMANCE.md).
 # --reading both|any: the Triangle Selector reading (icc.triangle_select;
 # default: the config's, any).
-#   bench/speed_targets.sh [--big] [--hd | --hd-sample F] [--reading both|any] [build/raplas]
+#   bench/speed_targets.sh [--big] [--hd | --hd-sample F | --hd-jobs N] [--reading both|any] [build/raplas]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 big=0
 hd=0
 hd_sample=()
+hd_jobs=()
 raplas=build/raplas
 reading=any
 while [[ $# -gt 0 ]]; do
@@ -33,6 +37,7 @@ while [[ $# -gt 0 ]]; do
     --big) big=1 ;;
     --hd) hd=1 ;;
     --hd-sample) hd=1; hd_sample=(--set sim.estimate=sample_passes --set "sim.sample_fraction=$2" --sample-front-end); shift ;;
+    --hd-jobs) hd=1; hd_jobs=(--jobs "$2"); shift ;;
     --reading) reading=$2; shift ;;
     *) raplas=$1 ;;
   esac
@@ -94,10 +99,31 @@ if [[ $hd == 1 ]]; then
     read -r scene w h <<<"$frame"
     l0=$(load)
     /usr/bin/time -v "$raplas" simulate --scene "scenes/$scene.toml" "${sel[@]}" --set "image.width=$w" \
-      --set "image.height=$h" --config paper --iccs 256 --fifo 1000 "${hd_sample[@]}" \
-      --json "$work/hd.json" -q 2>"$work/time.txt"
+      --set "image.height=$h" --config paper --iccs 256 --fifo 1000 "${hd_sample[@]}" "${hd_jobs[@]}" \
+      --json "$work/hd.json" -q 2>"$work/time.txt" &
+    run=$!
+    if [[ ${#hd_jobs[@]} -gt 0 ]]; then
+      # The process tree's resident size (time's pid, raplas under it, its shards), every 2 s.
+      echo 0 >"$work/tree.kib"
+      while kill -0 $run 2>/dev/null; do
+        t=$(ps -eo pid,ppid,rss | awk -v r=$run '$2==r {p[$1]=1} {rss[$1]=$3; pp[$1]=$2}
+              END {s=0; for (i in rss) if (p[i] || p[pp[i]]) s+=rss[i]; print s}')
+        (( t > $(cat "$work/tree.kib") )) && echo "$t" >"$work/tree.kib"
+        sleep 2
+      done
+    fi
+    wait $run
     rss=$(awk -F: '/Maximum resident/ {print $2}' "$work/time.txt" | xargs)
     wall=$(awk -F': ' '/Elapsed/ {print $2}' "$work/time.txt")
+    if [[ ${#hd_jobs[@]} -gt 0 ]]; then
+      cpu=$(awk -F': ' '/User time|System time/ {s+=$2} END {printf "%.0f", s}' "$work/time.txt")
+      echo "$scene ${w}x$h, 256 ICCs, ${hd_jobs[*]}: $(json "$work/hd.json" "d['total_cycles']") cycles" \
+           "($(json "$work/hd.json" "round(d['time_ms'], 1)") ms at 400 MHz), $wall wall, $cpu s CPU," \
+           "the longest shard's model $(json "$work/hd.json" "round(d['wall']['model_s_max'])") s; peak RSS" \
+           "$(python3 -c "print(f'{$(cat "$work/tree.kib") / 1024:.0f}')") MiB (process tree, sampled; this process" \
+           "$(python3 -c "print(f'{$rss / 1024:.0f}')") MiB) (load $l0 before, $(load) after)"
+      continue
+    fi
     echo "$scene ${w}x$h, 256 ICCs${hd_sample:+ (sampled)}: $(json "$work/hd.json" "d['total_cycles']") cycles" \
          "($(json "$work/hd.json" "round(d['time_ms'], 1)") ms at 400 MHz), $wall wall" \
          "(front end $(json "$work/hd.json" "round(d['wall']['frontend_s'])") s, model" \
