@@ -96,9 +96,9 @@ int simulate_local_shards(const LocalShards& run, GroupStream& stream, FrontEndT
     }
 
     // The trace, as the front end makes it, to every shard (each takes its
-    // passes and skips the others'; the slowest sets the pace).
-    // (each shard holds a window of passes: the groups handed over lead its
-    // simulation by no more, so they show the run's progress)
+    // passes and skips the others'; the slowest sets the pace). Each shard
+    // holds a window of passes, so the groups handed over lead its simulation
+    // by no more: they show the run's progress.
     ProgressLine line(run.progress, run.tty);
     const std::string unit = "ray groups to " + std::to_string(n) + " shards";
     std::optional<std::size_t> gone;
@@ -138,10 +138,10 @@ int simulate_local_shards(const LocalShards& run, GroupStream& stream, FrontEndT
         std::string why = last_line(logs[i]);
         for (const char* prefix : {"raplas: error: ", "raplas: internal error: "})
             if (why.rfind(prefix, 0) == 0) why.erase(0, std::strlen(prefix));
-        std::cerr << "raplas: " << (WIFEXITED(status[i]) && WEXITSTATUS(status[i]) == kExitInputError ? "error: " : "internal error: ")
-                  << "shard " << i << "/" << n << " (" << exit_text(status[i])
-                  << "): " << (why.empty() ? "no message" : why) << "; no result written\n";
-        return WIFEXITED(status[i]) && WEXITSTATUS(status[i]) == kExitInputError ? kExitInputError : kExitInternalError;
+        const bool input = WIFEXITED(status[i]) && WEXITSTATUS(status[i]) == kExitInputError;
+        std::cerr << "raplas: " << (input ? "error: " : "internal error: ") << "shard " << i << "/" << n << " ("
+                  << exit_text(status[i]) << "): " << (why.empty() ? "no message" : why) << "; no result written\n";
+        return input ? kExitInputError : kExitInternalError;
     }
 
     MergeArgs m;

@@ -201,17 +201,19 @@ bool GroupStream::ready_below(std::size_t end) const {
 
 const TraceGroup& GroupStream::group(std::size_t i) {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (i < free_point_ || i >= free_point_ + window_ || !ready_[i % window_])
-        throw std::logic_error("GroupStream: group " + std::to_string(i) + " read before it was waited for");
+    if (!holds(i)) throw std::logic_error("GroupStream: group " + std::to_string(i) + " read before it was waited for");
     return slots_[i % window_];
 }
 
 bool GroupStream::wait_there(std::size_t i, const std::atomic<bool>& stop) {
     std::unique_lock<std::mutex> lock(mutex_);
+    cv_.wait(lock, [&] { return holds(i) || failure_ || cancelled_ || stop; });
+    return holds(i);
+}
+
+bool GroupStream::holds(std::size_t i) const {
     // (group i's slot holds group i only once the groups a window before it are freed)
-    auto there = [&] { return i >= free_point_ && i < free_point_ + window_ && ready_[i % window_]; };
-    cv_.wait(lock, [&] { return there() || failure_ || cancelled_ || stop; });
-    return there();
+    return i >= free_point_ && i < free_point_ + window_ && ready_[i % window_];
 }
 
 void GroupStream::wake() {

@@ -195,6 +195,8 @@ private:
     void wait_until(std::unique_lock<std::mutex>& lock, const std::function<bool()>& ready);
     // Every group from the release point to `end` is there (the lock held).
     bool ready_below(std::size_t end) const;
+    // Group i is in its slot, not yet freed (the lock held).
+    bool holds(std::size_t i) const;
     // Model side: true once ready, false when the front end failed first.
     bool wait_or_fail(std::unique_lock<std::mutex>& lock, const std::function<bool()>& ready);
 
