@@ -3,7 +3,7 @@
 set -euo pipefail
 pkgs=(build-essential cmake ninja-build pkg-config git
       libsystemc-dev libtinyobjloader-dev libopenimageio-dev libgtest-dev libembree-dev
-      libcli11-dev nlohmann-json3-dev libtomlplusplus-dev libcsv-dev
+      libcli11-dev nlohmann-json3-dev libtomlplusplus-dev libcsv-dev libxxhash-dev
       python3 python3-matplotlib clang libclang-rt-14-dev parallel)
 missing=()
 for p in "${pkgs[@]}"; do

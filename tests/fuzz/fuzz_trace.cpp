@@ -19,22 +19,17 @@ namespace {
 const char* const kTarget = "fuzz_trace";
 constexpr std::size_t kHeaderBytes = raplas::kTraceFileHeaderBytes;  // docs/TRACE.md
 
-std::uint64_t fnv1a(const char* p, std::size_t n) {
-    std::uint64_t h = 1469598103934665603ull;
-    for (std::size_t i = 0; i < n; ++i) {
-        h ^= static_cast<unsigned char>(p[i]);
-        h *= 1099511628211ull;
-    }
-    return h;
-}
-
 template <class T> void put(std::string& s, std::size_t at, T v) { std::memcpy(&s[at], &v, sizeof v); }
 
 
-// A valid file header, and each block's checksum recomputed.
+// A valid file header (version 4 kept, any other made the current one), and
+// each block's checksum recomputed as its version computes it.
 void fix_blocks(std::string& bytes) {
+    std::uint32_t version;
+    std::memcpy(&version, bytes.data() + 8, 4);
+    if (version != raplas::kTraceOldestVersion) version = raplas::kTraceVersion;
     std::memcpy(&bytes[0], "RAPLTRC\n", 8);
-    put(bytes, 8, raplas::kTraceVersion);
+    put(bytes, 8, version);
     put(bytes, 12, std::uint32_t(kHeaderBytes));
     put(bytes, 16, std::uint64_t(0));
     put(bytes, 24, std::uint64_t(0));
@@ -43,7 +38,7 @@ void fix_blocks(std::string& bytes) {
         std::memcpy(&size, bytes.data() + at + 4, 8);
         const std::size_t payload = at + raplas::kTraceBlockHeaderBytes;
         if (size > bytes.size() - payload) break;
-        put(bytes, at + 12, fnv1a(bytes.data() + payload, std::size_t(size)));
+        put(bytes, at + 12, raplas::trace_block_checksum(version, bytes.data() + payload, std::size_t(size)));
         at = payload + std::size_t(size);
     }
 }

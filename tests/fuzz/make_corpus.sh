@@ -30,18 +30,24 @@ small=(--set image.width=8 --set image.height=8 --set groups.size=4 --set groups
 "$raplas" trace "${small[@]}" --mesh "$c/fuzz_obj/quad.obj" --format float32-wt \
   --out "$c/fuzz_trace/quad_8x8_g4_wt.trace"
 # The fp24 trace with its format named by the explicit (default) rounding
-# suffix "-rne" instead of "-rtz", same length, the HEAD block's checksum recomputed.
+# suffix "-rne" instead of "-rtz", same length, as a version 4 trace (every
+# block's checksum FNV-1a, which Python computes without a library): the seed
+# of the older format's reader.
 python3 - "$c/fuzz_trace/quad_8x8_g4_fp24.trace" "$c/fuzz_trace/format_name_rne.trace" <<'PY'
 import struct, sys
 b = bytearray(open(sys.argv[1], "rb").read())
 i = b.index(b"fp1-8-15-rtz")
 b[i:i + 12] = b"fp1-8-15-rne"
-# the HEAD block (right after the 32-byte file header): kind, size, checksum, payload
-size = struct.unpack_from("<Q", b, 36)[0]
-h = 1469598103934665603
-for x in b[52:52 + size]:
-    h = ((h ^ x) * 0x100000001b3) & 0xffffffffffffffff
-b[44:52] = struct.pack("<Q", h)
+struct.pack_into("<I", b, 8, 4)
+# the blocks after the 32-byte file header: kind u32, size u64, checksum u64, payload
+at = 32
+while at < len(b):
+    size = struct.unpack_from("<Q", b, at + 4)[0]
+    h = 1469598103934665603
+    for x in b[at + 20:at + 20 + size]:
+        h = ((h ^ x) * 0x100000001b3) & 0xffffffffffffffff
+    struct.pack_into("<Q", b, at + 12, h)
+    at += 20 + size
 open(sys.argv[2], "wb").write(b)
 PY
 for f in "$c"/*/*; do

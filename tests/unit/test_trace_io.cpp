@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include <xxhash.h>
+
 #include "raplas/frontend/frame.hpp"
 #include "raplas/frontend/memory_estimate.hpp"
 #include "raplas/frontend/trace_io.hpp"
@@ -137,6 +139,7 @@ std::string parse_error(const std::string& bytes, const std::string& name) {
     return "";
 }
 
+// Version 4's block checksum, written out here: FNV-1a 64 from 1469598103934665603.
 std::uint64_t fnv1a(const std::string& s, std::size_t from, std::size_t to = std::string::npos) {
     std::uint64_t h = 1469598103934665603ull;
     for (std::size_t i = from; i < std::min(to, s.size()); ++i) {
@@ -144,6 +147,10 @@ std::uint64_t fnv1a(const std::string& s, std::size_t from, std::size_t to = std
         h *= 1099511628211ull;
     }
     return h;
+}
+// Version 5's: XXH3-64, seed 0, from the library itself.
+std::uint64_t xxh3(const std::string& s, std::size_t from, std::size_t to) {
+    return XXH3_64bits(s.data() + from, std::min(to, s.size()) - from);
 }
 
 // The blocks of a trace file as written (docs/TRACE.md): kind, offset of
@@ -165,7 +172,7 @@ std::vector<BlockInfo> blocks_of(const std::string& b) {
         std::memcpy(&sum, &b[at + 12], 8);
         x.at = at + kTraceBlockHeaderBytes;
         if (x.at + x.size > b.size()) break;
-        x.sum_ok = sum == fnv1a(b, x.at, x.at + x.size);
+        x.sum_ok = sum == xxh3(b, x.at, x.at + x.size);
         if (x.kind == std::uint32_t(TraceBlock::groups)) std::memcpy(&x.groups, &b[x.at], 4);
         out.push_back(x);
         at = x.at + x.size;
@@ -359,6 +366,35 @@ TEST(TraceIo, WrongMagicAndOtherVersions) {
     }
 }
 
+TEST(TraceIo, ReadsVersion4TracesByTheirOwnChecksum) {
+    // A version 5 trace made version 4: the version field, and every block's
+    // checksum FNV-1a. It reads as the same trace; with version 5's
+    // checksums left in place, it does not.
+    const std::string& b = rendered().bytes;
+    std::uint32_t version;
+    std::memcpy(&version, &b[8], 4);
+    ASSERT_EQ(version, kTraceVersion);
+    ASSERT_EQ(kTraceVersion, 5u);
+    std::string v4 = b;
+    const std::uint32_t four = 4;
+    std::memcpy(&v4[8], &four, 4);
+    const std::string stale = v4;  // version 4, version 5's checksums
+    const std::vector<BlockInfo> blocks = blocks_of(b);
+    ASSERT_GE(blocks.size(), 4u);
+    for (const BlockInfo& x : blocks) {
+        ASSERT_TRUE(x.sum_ok);
+        const std::uint64_t sum = fnv1a(b, x.at, x.at + x.size);
+        ASSERT_NE(sum, xxh3(b, x.at, x.at + x.size));
+        std::memcpy(&v4[x.at - 8], &sum, 8);
+    }
+    EXPECT_EQ(serialize_trace(parse_trace(v4, "v4.trace")), b);
+    EXPECT_THAT(parse_error(stale, "stale.trace"), AllOf(HasSubstr("stale.trace"), HasSubstr("checksum mismatch")));
+    std::string three = b;
+    const std::uint32_t v3 = 3;
+    std::memcpy(&three[8], &v3, 4);
+    EXPECT_THAT(parse_error(three, "v3.trace"), AllOf(HasSubstr("version 3"), HasSubstr("versions 4 to 5")));
+}
+
 TEST(TraceIo, BlocksInTheirOrder) {
     // HEAD, GROUPS blocks of the primary groups, TOTAL, GROUPS blocks of the
     // shadow groups (at most kTraceBlockGroups each), END; nothing after it.
@@ -422,7 +458,7 @@ TEST(TraceIo, MorePrimaryGroupsThanGroupsIsRejected) {
     const BlockInfo head = blocks_of(b).front();
     const std::uint32_t p = std::uint32_t(t.groups.size() + 1);
     std::memcpy(&b[head.at + head.size - 4], &p, 4);
-    const std::uint64_t sum = fnv1a(b, head.at, head.at + head.size);
+    const std::uint64_t sum = xxh3(b, head.at, head.at + head.size);
     std::memcpy(&b[head.at - 8], &sum, 8);
     const std::string msg = parse_error(b, "bad.trace");
     EXPECT_THAT(msg, AllOf(HasSubstr("bad.trace"), ::testing::Not(HasSubstr("not an InputError")))) << msg;

@@ -16,8 +16,14 @@
 namespace raplas {
 
 // 2: triangle records carry V1 and V2; 3: groups may carry their pair-less
-// spheres; 4: blocks (written and read as a stream).
-constexpr std::uint32_t kTraceVersion = 4;
+// spheres; 4: blocks (written and read as a stream); 5: the blocks'
+// checksums are XXH3-64 instead of FNV-1a. Version 5 is written; 4 and 5
+// are read.
+constexpr std::uint32_t kTraceVersion = 5;
+constexpr std::uint32_t kTraceOldestVersion = 4;
+// A block's checksum in a trace of format `version` (4 or 5): FNV-1a 64 from
+// the start value 1469598103934665603 in version 4, XXH3-64 (seed 0) from 5.
+std::uint64_t trace_block_checksum(std::uint32_t version, const char* p, std::size_t n);
 constexpr std::uint64_t kTraceFileHeaderBytes = 32;  // magic, version, header size, two reserved u64
 constexpr std::uint64_t kTraceBlockHeaderBytes = 20;  // u32 kind, u64 payload bytes, u64 payload checksum
 // Block kinds, in the order a trace holds them: HEAD, GROUPS... (the primary
@@ -162,6 +168,7 @@ private:
     bool next_block();  // false at END
     std::unique_ptr<Source> src_;
     std::string name_;
+    std::uint32_t version_ = kTraceVersion;  // the file's format version
     Trace header_;
     std::string payload_;    // the current GROUPS block
     std::size_t pos_ = 0;    // next byte of it
