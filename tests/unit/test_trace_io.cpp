@@ -180,6 +180,19 @@ std::vector<BlockInfo> blocks_of(const std::string& b) {
     return out;
 }
 
+// Trace bytes of version 5 made version 4: the version field, and every
+// block's checksum FNV-1a.
+std::string as_version4(const std::string& b) {
+    std::string v4 = b;
+    const std::uint32_t four = 4;
+    std::memcpy(&v4[8], &four, 4);
+    for (const BlockInfo& x : blocks_of(b)) {
+        const std::uint64_t sum = fnv1a(b, x.at, x.at + x.size);
+        std::memcpy(&v4[x.at - 8], &sum, 8);
+    }
+    return v4;
+}
+
 // The rendered trace with its shadow groups repeated `times` times: enough
 // groups for several GROUPS blocks.
 Trace longer_trace(int times) {
@@ -375,18 +388,17 @@ TEST(TraceIo, ReadsVersion4TracesByTheirOwnChecksum) {
     std::memcpy(&version, &b[8], 4);
     ASSERT_EQ(version, kTraceVersion);
     ASSERT_EQ(kTraceVersion, 5u);
-    std::string v4 = b;
+    const std::string v4 = as_version4(b);
+    std::string stale = b;  // version 4, version 5's checksums
     const std::uint32_t four = 4;
-    std::memcpy(&v4[8], &four, 4);
-    const std::string stale = v4;  // version 4, version 5's checksums
+    std::memcpy(&stale[8], &four, 4);
     const std::vector<BlockInfo> blocks = blocks_of(b);
     ASSERT_GE(blocks.size(), 4u);
     for (const BlockInfo& x : blocks) {
         ASSERT_TRUE(x.sum_ok);
-        const std::uint64_t sum = fnv1a(b, x.at, x.at + x.size);
-        ASSERT_NE(sum, xxh3(b, x.at, x.at + x.size));
-        std::memcpy(&v4[x.at - 8], &sum, 8);
+        ASSERT_NE(fnv1a(b, x.at, x.at + x.size), xxh3(b, x.at, x.at + x.size));
     }
+    ASSERT_NE(v4, stale);
     EXPECT_EQ(serialize_trace(parse_trace(v4, "v4.trace")), b);
     EXPECT_THAT(parse_error(stale, "stale.trace"), AllOf(HasSubstr("stale.trace"), HasSubstr("checksum mismatch")));
     std::string three = b;
@@ -567,6 +579,22 @@ protected:
         fs::remove_all(dir, ec);
     }
 };
+
+TEST_F(TraceFiles, Version4FileReadsAndIsSizedAsItsVersion5Twin) {
+    // From a file, and in the memory check's reading of its header and blocks.
+    const Trace t = longer_trace(3);
+    const std::string b = serialize_trace(t);
+    const std::string p5 = (dir / "v5.trace").string(), p4 = (dir / "v4.trace").string();
+    std::ofstream(p5, std::ios::binary) << b;
+    std::ofstream(p4, std::ios::binary) << as_version4(b);
+    EXPECT_EQ(serialize_trace(read_trace(p4)), b);
+    const TraceShape s4 = trace_file_shape(p4), s5 = trace_file_shape(p5);
+    EXPECT_EQ(s5.groups(), t.groups.size());
+    EXPECT_EQ(s4.groups(), s5.groups());
+    EXPECT_EQ(s4.spheres, s5.spheres);
+    EXPECT_EQ(s4.triangles, s5.triangles);
+    EXPECT_EQ(trace_file_memory(s4).bytes, trace_file_memory(s5).bytes);
+}
 
 TEST_F(TraceFiles, WriteAndReadThroughTheFilesystem) {
     const Rendered& r = rendered();
