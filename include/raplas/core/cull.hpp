@@ -104,10 +104,10 @@ namespace cull_detail {
 
 // A group's planes as the proof sees them (structure of arrays, so that
 // many are tested at once): their float32 records in double, |n| (rounded
-// up), and the parts of the error bound that depend only on the plane. Four
-// spare entries past the 128th let a vector of four read past the last plane.
+// up), and the parts of the error bound that depend only on the plane. Eight
+// spare entries past the 128th let a vector of eight read past the last plane.
 struct PlanesD {
-    double nx[132], ny[132], nz[132], w[132], aw[132], nnorm[132], a[132];  // aw = |w|, a = max(|n|, 1)
+    double nx[136], ny[136], nz[136], w[136], aw[136], nnorm[136], a[136];  // aw = |w|, a = max(|n|, 1)
 };
 
 // True when no sphere of node `nd` can be hit by plane `k` in an arithmetic
@@ -131,8 +131,9 @@ inline bool plane_misses_node(const PlanesD& p, std::uint32_t k, const SphereTre
 
 // The same test for planes [first, first + count) at once (count <= 64): bit
 // i of the result is set when plane first + i may hit the node (the test
-// above does not prove a miss). src/core/cull.cpp: four planes per AVX2
-// vector where the machine has AVX2, else plane by plane.
+// above does not prove a miss). src/core/cull.cpp: eight planes per AVX-512
+// vector or four per AVX2 vector where the machine has them, else plane by
+// plane.
 std::uint64_t planes_may_hit_node(const PlanesD& p, std::uint32_t first, std::uint32_t count, const SphereTree::Node& nd,
                                   const ArithBounds& b);
 
