@@ -123,7 +123,7 @@ Frame render_frame(const Scene& scene, const FrameOptions& opt) {
             ++cache->built;
         }
     }
-    Tracer tracer(f.spheres, opt.format, opt.cull);
+    Tracer tracer(f.spheres, opt.format, opt.cull, threads);
     f.times.spheres_s = seconds_since(t0);
 
     // Primary groups.

@@ -197,8 +197,11 @@ SphereSet build_spheres(const Mesh& mesh, int tris_per_sphere, const std::string
     const bool tight = method != "file-order";
     if (tight) {
         std::vector<Vec3d> centroid(nt);
-        for (std::size_t i = 0; i < nt; ++i)
-            centroid[i] = (to_d(mesh.corner(i, 0)) + to_d(mesh.corner(i, 1)) + to_d(mesh.corner(i, 2))) / 3.0;
+        constexpr std::size_t kChunk = 16384;
+        parallel_for((nt + kChunk - 1) / kChunk, threads, [&](std::size_t c) {
+            for (std::size_t i = c * kChunk; i < std::min(nt, (c + 1) * kChunk); ++i)
+                centroid[i] = (to_d(mesh.corner(i, 0)) + to_d(mesh.corner(i, 1)) + to_d(mesh.corner(i, 2))) / 3.0;
+        });
         std::vector<SplitKey> keys(nt);
         split(idx, keys, 0, nt, k, centroid, leaves, threads);
     } else {

@@ -6,6 +6,7 @@
 #include "raplas/core/bits.hpp"
 #include "raplas/core/cull.hpp"
 #include "raplas/core/row_hits.hpp"
+#include "raplas/util/parallel.hpp"
 
 namespace raplas {
 
@@ -26,11 +27,21 @@ struct ImplT final : Tracer::Impl {
     std::vector<TriA<A>> tris;
     SphereTree tree;  // empty: no culling (every sphere tested)
 
-    ImplT(A arith, const SphereSet& set, bool cull) : a(arith), s(set) {
+    ImplT(A arith, const SphereSet& set, bool cull, unsigned threads) : a(arith), s(set) {
+        auto loads = [&] {
+            for (const auto& sp : set.spheres) spheres.push_back(load(a, sp));
+            tris.reserve(set.triangles.size());
+            for (const auto& t : set.triangles) tris.push_back(load(a, t));
+        };
+        if (cull && threads > 1) {  // (independent: the tree reads only the set)
+            parallel_for(2, 2, [&](std::size_t side) {
+                if (side == 0) tree = SphereTree(set.spheres);
+                else loads();
+            });
+            return;
+        }
         if (cull) tree = SphereTree(set.spheres);
-        for (const auto& sp : set.spheres) spheres.push_back(load(a, sp));
-        tris.reserve(set.triangles.size());
-        for (const auto& t : set.triangles) tris.push_back(load(a, t));
+        loads();
     }
 
     void trace(const RayGroup& g, GroupResult& out, bool record, bool per_ray, bool pairless) const override {
@@ -177,12 +188,17 @@ struct ImplT final : Tracer::Impl {
 
 }  // namespace
 
-Tracer::Tracer(const SphereSet& spheres, const NumFormat& format, bool cull) : spheres_(spheres), format_(format) {
+Tracer::Tracer(const SphereSet& spheres, const NumFormat& format, bool cull, unsigned threads)
+    : spheres_(spheres), format_(format) {
     switch (format.kind) {
-        case NumFormat::Kind::f32: impl_ = std::make_unique<ImplT<ArithF32>>(ArithF32{format.rti}, spheres, cull); break;
-        case NumFormat::Kind::f64: impl_ = std::make_unique<ImplT<ArithF64>>(ArithF64{format.rti}, spheres, cull); break;
+        case NumFormat::Kind::f32:
+            impl_ = std::make_unique<ImplT<ArithF32>>(ArithF32{format.rti}, spheres, cull, threads);
+            break;
+        case NumFormat::Kind::f64:
+            impl_ = std::make_unique<ImplT<ArithF64>>(ArithF64{format.rti}, spheres, cull, threads);
+            break;
         case NumFormat::Kind::custom:
-            impl_ = std::make_unique<ImplT<ArithSoft>>(ArithSoft{format, true}, spheres, cull);
+            impl_ = std::make_unique<ImplT<ArithSoft>>(ArithSoft{format, true}, spheres, cull, threads);
             break;
     }
 }

@@ -45,8 +45,9 @@ struct GroupResult {
 class Tracer {
 public:
     // cull: skip, with a proof, the spheres a group's planes cannot hit
-    // (core/cull.hpp); the results are bit-identical either way.
-    Tracer(const SphereSet& spheres, const NumFormat& format, bool cull = true);
+    // (core/cull.hpp); the results are bit-identical either way. threads:
+    // with 2 or more, the sphere tree is built while the records are loaded.
+    Tracer(const SphereSet& spheres, const NumFormat& format, bool cull = true, unsigned threads = 1);
     ~Tracer();
     Tracer(const Tracer&) = delete;
     Tracer& operator=(const Tracer&) = delete;
