@@ -62,43 +62,61 @@ Vec3d badoiu_clarkson(const std::vector<Vec3d>& pts, Vec3d c) {
     return c;
 }
 
-// badoiu_clarkson for four point sets of m points each at once, set k in
-// vector lane k: p[12 j + 4 axis + k] is point j of set k, c[4 axis + k]
-// the start and the result. Each lane does the scalar loop's operations
-// in the same order (no FMA; a farther point replaces the farthest so far
-// only when strictly farther), so the result is the scalar one, bit for bit.
-__attribute__((target_clones("avx2", "default"))) void badoiu_clarkson4(const double* p, std::size_t m, double* c) {
+// badoiu_clarkson for kLanes point sets of m points each at once, set k in
+// vector lane k: p[3 kLanes j + kLanes axis + k] is point j of set k,
+// c[kLanes axis + k] the start and the result. Each lane does the scalar
+// loop's operations in the same order (no FMA; a farther point replaces the
+// farthest so far only when strictly farther), so the result is the scalar
+// one, bit for bit. Each step waits for the one before it: sixteen lanes,
+// four chains of four-lane vectors, keep four steps in flight.
+constexpr std::size_t kLanes = 16;
+__attribute__((target_clones("avx2", "default"))) void badoiu_clarkson_lanes(const double* p, std::size_t m, double* c) {
     typedef double V __attribute__((vector_size(32)));
-    V cx, cy, cz;
-    std::memcpy(&cx, c, sizeof(V));
-    std::memcpy(&cy, c + 4, sizeof(V));
-    std::memcpy(&cz, c + 8, sizeof(V));
+    constexpr std::size_t L = kLanes, W = 4, N = L / W;
+#define RAPLAS_GET(v, q) std::memcpy(&(v), (q), sizeof(V))
+    V cx[N], cy[N], cz[N];
+    for (std::size_t u = 0; u < N; ++u) {
+        RAPLAS_GET(cx[u], c + W * u);
+        RAPLAS_GET(cy[u], c + L + W * u);
+        RAPLAS_GET(cz[u], c + 2 * L + W * u);
+    }
     for (int i = 1; i <= 64; ++i) {
-        V d2 = V{} - 1.0, fx, fy, fz;
-        std::memcpy(&fx, p, sizeof(V));
-        std::memcpy(&fy, p + 4, sizeof(V));
-        std::memcpy(&fz, p + 8, sizeof(V));
+        V d2[N], fx[N], fy[N], fz[N];
+        for (std::size_t u = 0; u < N; ++u) {
+            d2[u] = V{} - 1.0;
+            RAPLAS_GET(fx[u], p + W * u);
+            RAPLAS_GET(fy[u], p + L + W * u);
+            RAPLAS_GET(fz[u], p + 2 * L + W * u);
+        }
         for (std::size_t j = 0; j < m; ++j) {
-            V x, y, z;
-            std::memcpy(&x, p + 12 * j, sizeof(V));
-            std::memcpy(&y, p + 12 * j + 4, sizeof(V));
-            std::memcpy(&z, p + 12 * j + 8, sizeof(V));
-            const V dx = x - cx, dy = y - cy, dz = z - cz;
-            const V d = (dx * dx + dy * dy) + dz * dz;
-            const auto farther = d > d2;
-            d2 = farther ? d : d2;
-            fx = farther ? x : fx;
-            fy = farther ? y : fy;
-            fz = farther ? z : fz;
+            const double* q = p + 3 * L * j;
+            for (std::size_t u = 0; u < N; ++u) {
+                V x, y, z;
+                RAPLAS_GET(x, q + W * u);
+                RAPLAS_GET(y, q + L + W * u);
+                RAPLAS_GET(z, q + 2 * L + W * u);
+                const V dx = x - cx[u], dy = y - cy[u], dz = z - cz[u];
+                const V d = (dx * dx + dy * dy) + dz * dz;
+                const auto farther = d > d2[u];
+                d2[u] = farther ? d : d2[u];
+                fx[u] = farther ? x : fx[u];
+                fy[u] = farther ? y : fy[u];
+                fz[u] = farther ? z : fz[u];
+            }
         }
         const V step = V{} + double(i + 1);
-        cx = cx + (fx - cx) / step;
-        cy = cy + (fy - cy) / step;
-        cz = cz + (fz - cz) / step;
+        for (std::size_t u = 0; u < N; ++u) {
+            cx[u] = cx[u] + (fx[u] - cx[u]) / step;
+            cy[u] = cy[u] + (fy[u] - cy[u]) / step;
+            cz[u] = cz[u] + (fz[u] - cz[u]) / step;
+        }
     }
-    std::memcpy(c, &cx, sizeof(V));
-    std::memcpy(c + 4, &cy, sizeof(V));
-    std::memcpy(c + 8, &cz, sizeof(V));
+#undef RAPLAS_GET
+    for (std::size_t u = 0; u < N; ++u) {
+        std::memcpy(c + W * u, &cx[u], sizeof(V));
+        std::memcpy(c + L + W * u, &cy[u], sizeof(V));
+        std::memcpy(c + 2 * L + W * u, &cz[u], sizeof(V));
+    }
 }
 
 Vec3d box_centre(const std::vector<Vec3d>& pts) {
@@ -217,11 +235,11 @@ SphereSet build_spheres(const Mesh& mesh, int tris_per_sphere, const std::string
     s.triangles.resize(nt);
     s.tri_mesh_index.resize(nt);
     s.tri_sphere.resize(nt);
-    // Spheres in blocks of four: four that iterate over as many points run
+    // Spheres in blocks of kLanes: those that iterate over as many points run
     // Badoiu-Clarkson together, one per vector lane.
-    parallel_for((ns + 3) / 4, threads, [&](std::size_t block) {
-        thread_local std::vector<Vec3d> pts[4];
-        const std::size_t j0 = block * 4, count = std::min<std::size_t>(4, ns - j0);
+    parallel_for((ns + kLanes - 1) / kLanes, threads, [&](std::size_t block) {
+        thread_local std::vector<Vec3d> pts[kLanes];
+        const std::size_t j0 = block * kLanes, count = std::min<std::size_t>(kLanes, ns - j0);
         for (std::size_t b = 0; b < count; ++b) {
             const std::size_t j = j0 + b;
             const auto [lo, hi] = leaves[j];
@@ -239,31 +257,32 @@ SphereSet build_spheres(const Mesh& mesh, int tris_per_sphere, const std::string
             }
         }
         // (a lone triangle's smallest sphere is mostly known exactly: enclose() decides)
-        bool together = tight && count == 4 && pts[0].size() != 3;
-        for (std::size_t b = 1; together && b < 4; ++b) together = pts[b].size() == pts[0].size();
+        bool together = tight && count == kLanes && pts[0].size() != 3;
+        for (std::size_t b = 1; together && b < kLanes; ++b) together = pts[b].size() == pts[0].size();
         if (!together) {
             for (std::size_t b = 0; b < count; ++b) s.spheres[j0 + b] = enclose(pts[b], tight, margin);
             return;
         }
+        constexpr std::size_t L = kLanes;
         const std::size_t m = pts[0].size();
         thread_local std::vector<double> flat;
-        flat.resize(12 * m);
+        flat.resize(3 * L * m);
         for (std::size_t q = 0; q < m; ++q)
-            for (std::size_t b = 0; b < 4; ++b) {
-                flat[12 * q + b] = pts[b][q].x;
-                flat[12 * q + 4 + b] = pts[b][q].y;
-                flat[12 * q + 8 + b] = pts[b][q].z;
+            for (std::size_t b = 0; b < L; ++b) {
+                flat[3 * L * q + b] = pts[b][q].x;
+                flat[3 * L * q + L + b] = pts[b][q].y;
+                flat[3 * L * q + 2 * L + b] = pts[b][q].z;
             }
-        double c[12];
-        for (std::size_t b = 0; b < 4; ++b) {
+        double c[3 * L];
+        for (std::size_t b = 0; b < L; ++b) {
             const Vec3d start = box_centre(pts[b]);
             c[b] = start.x;
-            c[4 + b] = start.y;
-            c[8 + b] = start.z;
+            c[L + b] = start.y;
+            c[2 * L + b] = start.z;
         }
-        badoiu_clarkson4(flat.data(), m, c);
-        for (std::size_t b = 0; b < 4; ++b) {
-            const Vec3d iterated{c[b], c[4 + b], c[8 + b]};
+        badoiu_clarkson_lanes(flat.data(), m, c);
+        for (std::size_t b = 0; b < L; ++b) {
+            const Vec3d iterated{c[b], c[L + b], c[2 * L + b]};
             s.spheres[j0 + b] = enclose(pts[b], tight, margin, &iterated);
         }
     });
