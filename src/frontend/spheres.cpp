@@ -73,6 +73,8 @@ constexpr std::size_t kLanes = 16;
 __attribute__((target_clones("avx2", "default"))) void badoiu_clarkson_lanes(const double* p, std::size_t m, double* c) {
     typedef double V __attribute__((vector_size(32)));
     constexpr std::size_t L = kLanes, W = 4, N = L / W;
+    // (a macro, not a lambda: a lambda is compiled for the default target,
+    // and would pass the vectors through memory)
 #define RAPLAS_GET(v, q) std::memcpy(&(v), (q), sizeof(V))
     V cx[N], cy[N], cz[N];
     for (std::size_t u = 0; u < N; ++u) {
