@@ -50,7 +50,7 @@ __attribute__((always_inline)) inline V abs_v(V x) {
 
 // plane_misses_node over planes [first, first + count), four per AVX2
 // vector: the same operations in the same order, so the same answers.
-__attribute__((target("avx2"))) std::uint64_t planes_may_hit_avx2(const PlanesD& p, std::uint32_t first,
+__attribute__((target("avx2"))) std::uint64_t planes_missed_avx2(const PlanesD& p, std::uint32_t first,
                                                                   std::uint32_t count, const SphereTree::Node& nd,
                                                                   const ArithBounds& b) {
     const double u = std::max(b.rel, 0x1p-52);
@@ -72,13 +72,12 @@ __attribute__((target("avx2"))) std::uint64_t planes_may_hit_avx2(const PlanesD&
         const __m256d gt = _mm256_cmp_pd(_mm256_andnot_pd(sign, d), limit, _CMP_GT_OQ);
         miss |= std::uint64_t(_mm256_movemask_pd(gt)) << i;
     }
-    const std::uint64_t all = count >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << count) - 1;
-    return ~miss & all;
+    return miss;
 }
 
 // The same, eight planes per AVX-512 vector (|d| by _mm512_abs_pd, which
 // clears the sign bit as the AVX2 version's andnot does).
-__attribute__((target("avx512f"))) std::uint64_t planes_may_hit_avx512(const PlanesD& p, std::uint32_t first,
+__attribute__((target("avx512f"))) std::uint64_t planes_missed_avx512(const PlanesD& p, std::uint32_t first,
                                                                       std::uint32_t count, const SphereTree::Node& nd,
                                                                       const ArithBounds& b) {
     const double u = std::max(b.rel, 0x1p-52);
@@ -98,14 +97,13 @@ __attribute__((target("avx512f"))) std::uint64_t planes_may_hit_avx512(const Pla
         const __m512d limit = _mm512_add_pd(_mm512_mul_pd(_mm512_loadu_pd(p.a + k), r), slack);
         miss |= std::uint64_t(_mm512_cmp_pd_mask(_mm512_abs_pd(d), limit, _CMP_GT_OQ)) << i;
     }
-    const std::uint64_t all = count >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << count) - 1;
-    return ~miss & all;
+    return miss;
 }
 
-std::uint64_t planes_may_hit_scalar(const PlanesD& p, std::uint32_t first, std::uint32_t count,
-                                    const SphereTree::Node& nd, const ArithBounds& b) {
+std::uint64_t planes_missed_scalar(const PlanesD& p, std::uint32_t first, std::uint32_t count,
+                                   const SphereTree::Node& nd, const ArithBounds& b) {
     std::uint64_t m = 0;
-    for (std::uint32_t i = 0; i < count; ++i) m |= std::uint64_t(!plane_misses_node(p, first + i, nd, b)) << i;
+    for (std::uint32_t i = 0; i < count; ++i) m |= std::uint64_t(plane_misses_node(p, first + i, nd, b)) << i;
     return m;
 }
 
@@ -113,9 +111,13 @@ std::uint64_t planes_may_hit_scalar(const PlanesD& p, std::uint32_t first, std::
 
 std::uint64_t planes_may_hit_node(const PlanesD& p, std::uint32_t first, std::uint32_t count,
                                   const SphereTree::Node& nd, const ArithBounds& b) {
-    if (cpu_has_avx512()) return planes_may_hit_avx512(p, first, count, nd, b);
-    const bool avx2 = cpu_has_avx2();
-    return avx2 ? planes_may_hit_avx2(p, first, count, nd, b) : planes_may_hit_scalar(p, first, count, nd, b);
+    // Each version sets bit i when it proves plane first + i misses; the
+    // vector ones may also set bits at and past `count` (lanes read past it).
+    const std::uint64_t missed = cpu_has_avx512() ? planes_missed_avx512(p, first, count, nd, b)
+                                 : cpu_has_avx2() ? planes_missed_avx2(p, first, count, nd, b)
+                                                  : planes_missed_scalar(p, first, count, nd, b);
+    const std::uint64_t all = count >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << count) - 1;
+    return ~missed & all;
 }
 
 namespace {
