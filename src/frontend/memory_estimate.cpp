@@ -143,7 +143,7 @@ TraceShape trace_file_shape(const std::string& path) {
     bool headed = false, totalled = false;
     TraceShape t;
     if (!in || size < 32 || !in.read(magic, 8) || std::memcmp(magic, "RAPLTRC\n", 8) != 0 || !get(version) ||
-        version < kTraceOldestVersion || version > kTraceVersion || !get(header) || !get(reserved[0]) || !get(reserved[1]))
+        !trace_version_read(version) || !get(header) || !get(reserved[0]) || !get(reserved[1]))
         return t;
     TraceShape g;
     // Block by block (docs/TRACE.md): the HEAD's sizes, each group's counts

@@ -605,7 +605,7 @@ bool TraceReader::next_block() {
         if (std::memcmp(h, kMagic, sizeof kMagic) != 0) throw InputError(name + ": not a raplas trace (bad magic)");
         std::uint32_t version, header;
         std::memcpy(&version, h + 8, 4);
-        if (version < kTraceOldestVersion || version > kTraceVersion)
+        if (!trace_version_read(version))
             throw InputError(name + ": trace format version " + std::to_string(version) + ", this raplas reads versions " +
                              std::to_string(kTraceOldestVersion) + " to " + std::to_string(kTraceVersion) +
                              " (regenerate it with 'raplas trace')");

@@ -21,6 +21,7 @@ namespace raplas {
 // are read.
 constexpr std::uint32_t kTraceVersion = 5;
 constexpr std::uint32_t kTraceOldestVersion = 4;
+constexpr bool trace_version_read(std::uint32_t v) { return v >= kTraceOldestVersion && v <= kTraceVersion; }
 // A block's checksum in a trace of format `version` (4 or 5): FNV-1a 64 from
 // the start value 1469598103934665603 in version 4, XXH3-64 (seed 0) from 5.
 std::uint64_t trace_block_checksum(std::uint32_t version, const char* p, std::size_t n);
