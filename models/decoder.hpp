@@ -108,8 +108,9 @@ public:
     }
     std::uint32_t decided() const { return decided_; }
     // n cycles of tick() holding (a result to queue, a FIFO full).
+    void note_held(std::uint64_t n) { stats_.full_cycles += n; }
     void note_held(std::uint64_t n, Fifo<PlaneIdEntry>& plane_ids, Fifo<FirstTriEntry>& first_ids) {
-        stats_.full_cycles += n;
+        note_held(n);
         if (plane_ids.full()) plane_ids.note_full(n);
         if (first_ids.full()) first_ids.note_full(n);
     }

@@ -43,6 +43,12 @@
 //     spheres of such a run one per decision of the shared side, and while
 //     its PlaneID FIFO can neither fill nor pass its largest occupancy so far
 //     they are pushed only when its FIFOs are read.
+//  6. An ICC stepped on its own whose Decoder holds (its PlaneID or
+//     First-Triangle-ID FIFO full) "dozes": until a selection pops that
+//     FIFO, only counts change and its Sphere FIFO takes the spheres
+//     broadcast, up to full. It is left out of the per-cycle steps; the links
+//     see it through the link position at which its Sphere FIFO fills and its
+//     decision count, and its counts are settled when it wakes.
 // The equivalence with the cycle-by-cycle mode is checked in CI on a grid of
 // scenes, ICC counts, FIFO depths and policies (tests/equivalence_modes.py).
 #include <algorithm>
@@ -245,6 +251,91 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         z.next = to;
         z.on = to < z.end;
     };
+    // Dozing (6. in the header): individual ICC k whose Decoder holds (its
+    // PlaneID or First-Triangle-ID FIFO full) changes nothing but counts
+    // until a selection pops that FIFO: its Sphere FIFO takes every sphere
+    // broadcast until it is full, and then stops the sphere stream. (Its
+    // decisions stop too, but the triangle stream cannot reach its next
+    // undecided sphere meanwhile: the head entry of its full FIFOs is a
+    // decided sphere whose last triangle is still to be selected.) It
+    // leaves `individuals`; the links see it through two bounds (the sphere
+    // link position at which a dozer's Sphere FIFO fills, the smallest
+    // decision count), and its counts are settled when it wakes, when the
+    // watchdog looks, and at the end of the pass.
+    struct Doze {
+        std::uint64_t from = 0;           // the first cycle not yet counted
+        std::uint64_t spos = 0;           // the sphere link's position at the start of cycle `from`
+        std::uint64_t fill_pos = 0;       // the sphere link's position at which its Sphere FIFO is full
+        std::uint64_t full_from = kNever; // from this cycle on it stops the sphere stream
+        bool s_has_full = false;          // ... which has a record then
+        bool planeid_full = false, first_tri_full = false;  // which of its FIFOs holds its Decoder
+    };
+    std::vector<Doze> doze(na);
+    std::vector<std::uint8_t> dozing(na, 0);
+    std::vector<std::uint32_t> dozers;
+    std::uint32_t dozers_full = 0, doze_decided = ~std::uint32_t(0);
+    std::uint64_t doze_fill = kNever;
+    const bool may_doze = cfg_.fault == Fault::none;
+    auto doze_bounds = [&] {
+        doze_decided = ~std::uint32_t(0);
+        doze_fill = kNever;
+        for (std::uint32_t k : dozers) {
+            const Doze& z = doze[k];
+            doze_decided = std::min(doze_decided, active[k]->decoder.decided());
+            if (z.full_from == kNever) doze_fill = std::min(doze_fill, z.fill_pos);
+        }
+    };
+    // Counts dozing ICC k's cycles: held and taking spheres up to cycle
+    // `held_end` (the sphere link then at `spos`), stopping the sphere
+    // stream in the link decisions of the cycles before `link_end`.
+    auto settle = [&](std::uint32_t k, std::uint64_t held_end, std::uint64_t link_end, std::uint64_t spos) {
+        Doze& z = doze[k];
+        Icc& c = *active[k];
+        if (held_end > z.from) {  // (its FIFOs were as full as when it began to doze: a wake comes after the pop)
+            const std::uint64_t h = held_end - z.from;
+            c.decoder.note_held(h);
+            if (z.planeid_full) c.planeid_fifo.note_full(h);
+            if (z.first_tri_full) c.first_tri_fifo.note_full(h);
+            c.psi.add_stalled(h);
+        }
+        c.sphere_fifo.push_run(std::uint32_t(z.spos), std::uint32_t(spos - z.spos));
+        if (z.full_from != kNever) {
+            if (z.s_has_full && link_end > z.full_from) c.note_sphere_blocked(link_end - z.full_from);
+            z.full_from = std::max(z.full_from, link_end);
+        }
+        z.from = held_end;
+        z.spos = spos;
+    };
+    // ICC k, individual, after its step in cycle c, holds: it dozes from cycle c + 1.
+    auto start_doze = [&](std::uint32_t k, std::uint64_t c) {
+        const Icc& icc = *active[k];
+        Doze z;
+        z.from = c + 1;
+        z.spos = sphere_link.position();
+        z.fill_pos = z.spos + (icc.sphere_fifo.depth() - icc.sphere_fifo.size());
+        z.planeid_full = icc.planeid_fifo.full();
+        z.first_tri_full = icc.first_tri_fifo.full();
+        if (z.fill_pos == z.spos) {
+            z.full_from = c + 1;
+            z.s_has_full = sphere_link.has_record();
+            ++dozers_full;
+        }
+        doze[k] = z;
+        dozing[k] = 1;
+        dozers.push_back(k);
+    };
+    // Dozing ICC k wakes in cycle c, after the link decisions (its FIFOs
+    // popped by a selection); `s`: the sphere broadcast in c (-1: none),
+    // which its own step takes.
+    auto wake = [&](std::uint32_t k, std::uint64_t c, std::int64_t s) {
+        settle(k, c, c + 1, sphere_link.position() - (s >= 0 ? 1 : 0));
+        if (doze[k].full_from != kNever) --dozers_full;
+        dozing[k] = 0;
+        dozers.erase(std::find(dozers.begin(), dozers.end(), k));
+        individuals.push_back(k);
+        doze_bounds();
+    };
+
     // Triangle tri (of the head sphere) selected by ICC k in cycle c. Returns
     // true if ICC k coasts from the next triangle on.
     auto select = [&](std::uint32_t k, std::uint32_t tri, std::uint64_t c) {
@@ -316,6 +407,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
 
     // The watchdog's picture of the active ICCs at the start of cycle c.
     auto views = [&](std::uint64_t c) {
+        for (std::uint32_t k : dozers) settle(k, c, c, sphere_link.position());
         for (std::uint32_t k = 0; k < na; ++k) {
             if (lazy[k].on) push_lazy(k, rd.decided());
             if (coast[k].on) catch_up(k, std::uint32_t(triangle_link.position()));
@@ -363,11 +455,13 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         // waiting ICC's triangles, or is held by full Triangle FIFOs until the
         // first of them is popped.
         if (t_has && (n_ref == 0 || rd.decided() > ts)) {
-            const bool s_steady = individuals.empty() && n_ref > 0 && s_has && rp.batches() == 1 &&
+            const bool s_steady = individuals.empty() && dozers.empty() && n_ref > 0 && s_has && rp.batches() == 1 &&
                                   rp.in_flight() == stages && rp.has_output() && !rf.empty() && !rf.full();
-            bool s_done = !s_has && rf.empty() && rp.in_flight() == 0;
-            bool s_frozen = s_has && !individuals.empty() && rf.empty() && rp.drained(), stops_spheres = false;
-            std::uint32_t min_decided = n_ref ? rd.decided() : ~std::uint32_t(0);
+            bool s_done = !s_has && rf.empty() && rp.in_flight() == 0 && dozers.empty();
+            bool s_frozen = s_has && !(individuals.empty() && dozers.empty()) && rf.empty() && rp.drained() &&
+                            doze_decided > ts;
+            bool stops_spheres = dozers_full > 0;
+            std::uint32_t min_decided = std::min(n_ref ? rd.decided() : ~std::uint32_t(0), doze_decided);
             for (std::uint32_t k : individuals) {
                 const Icc& c = *active[k];
                 const std::uint32_t dec = c.decoder.decided();
@@ -449,6 +543,8 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
             s_ok = s_ok && active[k]->sphere_ready();
             t_ok = t_ok && active[k]->decoder.decided() > ts;
         }
+        s_ok = s_ok && dozers_full == 0;
+        t_ok = t_ok && doze_decided > ts;
         if (t_ok)
             for (std::uint32_t k : full_now)
                 if (tri_blocker(k)) t_ok = false;
@@ -468,6 +564,15 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         std::int64_t s = -1, t = -1;
         broadcast(s_has, s_ok, t_has, t_ok, s, t);
         const bool spheres_pending = sphere_link.has_record();
+        if (s >= 0 && sphere_link.position() >= doze_fill) {  // a dozer's Sphere FIFO is full from the next cycle
+            for (std::uint32_t k : dozers)
+                if (doze[k].full_from == kNever && doze[k].fill_pos <= sphere_link.position()) {
+                    doze[k].full_from = cycle + 1;
+                    doze[k].s_has_full = spheres_pending;
+                    ++dozers_full;
+                }
+            doze_bounds();
+        }
 
         // ---- triangle selection ------------------------------------------
         if (t >= 0) {
@@ -483,7 +588,10 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
             for (std::size_t i = 0; i < selecting.size();) {
                 const std::uint32_t k = selecting[i];
                 if (lazy[k].on) push_lazy(k, rd.decided());  // (so that a coast can cover the whole run)
-                if (select(k, std::uint32_t(t), cycle)) {
+                const bool coasts = select(k, std::uint32_t(t), cycle);
+                if (dozing[k] && (coasts || !(active[k]->planeid_fifo.full() || active[k]->first_tri_fifo.full())))
+                    wake(k, cycle, s);
+                if (coasts) {
                     waiting.push(coast[k].end - 1, k);
                     selecting[i] = selecting.back();
                     selecting.pop_back();
@@ -573,6 +681,13 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 individuals.pop_back();
                 continue;
             }
+            if (may_doze && !coast[k].on && !lazy[k].on && !c.psi.stuck() && c.decoder_holds()) {
+                start_doze(k, cycle);
+                individuals[i] = individuals.back();
+                individuals.pop_back();
+                doze_bounds();
+                continue;
+            }
             ++i;
         }
 
@@ -597,6 +712,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         if (++since_sync_ >= cfg_.sync_cycles && !sync_time(cycle, watch, max_done, [&] { return views(cycle); }))
             return cycle;
     }
+    for (std::uint32_t k : dozers) settle(k, cycle, cycle, sphere_link.position());
     for (std::uint32_t k = 0; k < na; ++k) {
         if (lazy[k].on) push_lazy(k, rd.decided());
         if (role[k] == ref) adopt_reference(k);

@@ -113,6 +113,15 @@ public:
         ++first_;
         --count_;
     }
+    // Event-driven simulation: spheres first, first+1, ... (n of them)
+    // pushed one per cycle with no pop between them.
+    void push_run(std::uint32_t first, std::uint32_t n) {
+        if (n == 0) return;
+        if (count_ == 0) first_ = first;
+        count_ += n;
+        stats_.pushes += n;
+        if (count_ > stats_.max_occupancy) stats_.max_occupancy = count_;
+    }
     void clear() { count_ = 0; }
     void note_full() { ++stats_.full_cycles; }
     void note_full(std::uint64_t cycles) { stats_.full_cycles += cycles; }
