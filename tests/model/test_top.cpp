@@ -67,6 +67,34 @@ TEST_P(TopClosedForm, EverySphereHitDeepFifo) {
     EXPECT_EQ(r.iccs[0].rti.busy_cycles, std::uint64_t(S) * m);
 }
 
+TEST_P(TopClosedForm, HeldDecoderStopsTheSphereStreamWithoutStarvingTheRti) {
+    // As above with 10-deep Sphere and Triangle FIFOs: the Triangle FIFO
+    // fills, the 16-deep PlaneID FIFO behind it, the Decoder holds, the
+    // Sphere FIFO fills and stops the sphere stream (the event mode lets
+    // such an ICC doze and settles its counts when a selection frees it).
+    // The RTI still never waits: S*m + L_rti + L_psi + 3 cycles.
+    const std::uint32_t S = 300, m = 6;
+    Trace t = test::hand_trace(S, 16, 0b11, 0b111, std::vector<bool>(S, true));
+    SimConfig c = base_config(1, 10);
+    SimResult r = simulate(t, c);
+    EXPECT_EQ(r.total_cycles, std::uint64_t(S) * m + c.icc.rti.stages + c.icc.psi.stages + 3);
+    const IccSnapshot& i = r.iccs[0];
+    EXPECT_EQ(i.rti.busy_cycles, std::uint64_t(S) * m);
+    EXPECT_EQ(i.planeid_fifo.pushes, S);
+    EXPECT_EQ(i.planeid_fifo.max_occupancy, 16u);
+    EXPECT_EQ(i.sphere_fifo.pushes, S);
+    EXPECT_EQ(i.sphere_fifo.max_occupancy, 10u);
+    EXPECT_GT(i.decoder.full_cycles, 0u);
+    // The PSI holds exactly when the Decoder does, and both FIFOs are full then.
+    EXPECT_EQ(i.psi.stall_cycles, i.decoder.full_cycles);
+    EXPECT_EQ(i.planeid_fifo.full_cycles, i.decoder.full_cycles);
+    EXPECT_EQ(i.first_tri_fifo.full_cycles, i.decoder.full_cycles);
+    // The only ICC's full Sphere FIFO is the only reason the sphere link stalls.
+    EXPECT_GT(i.sphere_selector.blocked_link_cycles, 0u);
+    EXPECT_EQ(i.sphere_selector.blocked_link_cycles, r.sphere_link.stall_cycles);
+    EXPECT_EQ(i.sphere_fifo.full_cycles, r.sphere_link.stall_cycles);
+}
+
 TEST_P(TopClosedForm, DepthOneFifoHalvesTheRateOfOneRayTriangles) {
     // A full FIFO refuses a push even when its reader pops in the same cycle:
     // with depth 1 and one test per triangle the link delivers every other
