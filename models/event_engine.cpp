@@ -49,9 +49,16 @@
 //     broadcast, up to full. It is left out of the per-cycle steps; the links
 //     see it through the link position at which its Sphere FIFO fills and its
 //     decision count, and its counts are settled when it wakes.
+//  7. An ICC stepped on its own whose pipe streams (one batch per sphere,
+//     a full pipe, its Sphere FIFO neither empty nor full) decides one
+//     sphere a cycle until its Sphere FIFO runs dry (once the sphere stream
+//     has stood still in as many cycles as that FIFO held) or its next
+//     queued sphere leaves the pipe: it "cruises", left out of the per-cycle
+//     steps, and is brought up to date in one step then.
 // The equivalence with the cycle-by-cycle mode is checked in CI on a grid of
 // scenes, ICC counts, FIFO depths and policies (tests/equivalence_modes.py).
 #include <algorithm>
+#include <limits>
 
 #include "raplas/core/bits.hpp"
 #include "top.hpp"
@@ -128,6 +135,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     std::vector<Back>& back = event_back_;
     if (!cfg_.overlap_passes || back.size() != iccs.size()) back.assign(iccs.size(), Back{});
     constexpr std::uint64_t kNever = ~std::uint64_t(0);
+    constexpr std::uint32_t kMinCruise = 8;  // a cruise shorter than this is stepped
     std::vector<std::uint8_t> is_full(na, 0);
     // The last busy cycle of the previous pass's work (the pass cannot end
     // before it under overlap), and of all work.
@@ -170,7 +178,6 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                c.decoder.decided() == rd.decided();
     };
     auto first_tri = [&](std::uint32_t sphere) { return sphere_memory.peek(sphere).first_tri; };
-    auto decided_of = [&](std::size_t k) { return role[k] == ref ? rd.decided() : active[k]->decoder.decided(); };
 
     // Coasting (4. in the header): ICC k takes the triangles `first` up to
     // `end` - 2 of a run of pair-less spheres without being touched; `end` - 1
@@ -336,6 +343,80 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         doze_bounds();
     };
 
+    // Cruising (7. in the header): individual ICC k whose PSI streams on its
+    // own (one batch per sphere, a full pipe, free to issue, its Sphere FIFO
+    // neither empty nor full) decides one sphere a cycle for as long as its
+    // Sphere FIFO does not run dry, which it does once the sphere stream has
+    // been idle or stalled in as many cycles as the FIFO held at the start
+    // (it takes one sphere a cycle and receives every sphere broadcast). Up
+    // to the cycle its next queued sphere leaves the pipe, nothing but its
+    // decision count and positions changes; the links see it through that
+    // count, and it is brought up to date (and stepped again) then, when its
+    // FIFO runs dry, when the watchdog looks, and at the end of the pass.
+    struct Cruise {
+        std::uint64_t c0 = 0;    // its first cruising cycle
+        std::uint32_t d0 = 0;    // its decision count then
+        std::uint32_t count0 = 0;  // its Sphere FIFO's occupancy then
+        std::uint64_t spos0 = 0; // the sphere link's position then
+        std::uint64_t nb0 = 0;   // cycles without a sphere broadcast before it
+        std::uint64_t end = 0;   // the cycle its next queued sphere leaves the pipe
+    };
+    std::vector<Cruise> cruise(na);
+    std::vector<std::uint8_t> cruising(na, 0);
+    std::vector<std::uint32_t> cruisers;
+    std::uint64_t no_sphere_cycles = 0;  // cycles of the pass without a sphere broadcast
+    std::uint64_t cruise_end = kNever, cruise_dry = kNever;
+    std::int64_t cruise_offset = std::numeric_limits<std::int64_t>::max();  // decisions - cycle, smallest
+    const bool may_cruise = cfg_.fault == Fault::none && cfg_.icc.psi.pipes >= 2 * n;
+    auto cruise_bounds = [&] {
+        cruise_end = cruise_dry = kNever;
+        cruise_offset = std::numeric_limits<std::int64_t>::max();
+        for (std::uint32_t k : cruisers) {
+            const Cruise& z = cruise[k];
+            cruise_end = std::min(cruise_end, z.end);
+            cruise_dry = std::min(cruise_dry, z.nb0 + z.count0);
+            cruise_offset = std::min(cruise_offset, std::int64_t(z.d0) - std::int64_t(z.c0));
+        }
+    };
+    auto cruise_decided = [&](std::uint32_t k, std::uint64_t c) { return std::uint32_t(cruise[k].d0 + (c - cruise[k].c0)); };
+    // The first sphere from `from` on that ICC k's Decoder queues (the sphere count if none).
+    auto next_queued = [&](std::uint32_t k, std::uint32_t from) {
+        const GroupUnit& u = active[k]->unit();
+        const auto& hits = u.sphere_hits();
+        auto h = std::lower_bound(hits.begin(), hits.end(), from,
+                                  [](const SphereHitRec& r, std::uint32_t x) { return r.sphere < x; });
+        std::uint32_t x = h == hits.end() ? std::uint32_t(sphere_memory.size()) : h->sphere;
+        if (keep_pairless) {
+            const auto& runs = u.pairless();
+            auto r = std::lower_bound(runs.begin(), runs.end(), from,
+                                      [](const SphereRun& a, std::uint32_t v) { return a.end() <= v; });
+            if (r != runs.end()) x = std::min(x, std::max(r->first, from));
+        }
+        return x;
+    };
+    // Cruising ICC k brought up to the start of cycle c (the sphere link now at its position then).
+    auto land = [&](std::uint32_t k, std::uint64_t c) {
+        const Cruise& z = cruise[k];
+        Icc& icc = *active[k];
+        const std::uint64_t m = c - z.c0;
+        icc.psi.cruise(m);
+        icc.sphere_fifo.cruise(std::uint32_t(m), std::uint32_t(sphere_link.position() - z.spos0));
+        icc.decoder.set_decided(std::uint32_t(z.d0 + m));
+        // (a coasting ICC's FIFOs are popped as the triangle stream passes, as
+        // the per-cycle steps would have done by now: the skip reads them)
+        if (coast[k].on) catch_up(k, std::uint32_t(triangle_link.position()));
+        cruising[k] = 0;
+        individuals.push_back(k);
+    };
+    auto land_all = [&](std::uint64_t c) {
+        for (std::uint32_t k : cruisers) land(k, c);
+        cruisers.clear();
+        cruise_bounds();
+    };
+    auto decided_of = [&](std::size_t k, std::uint64_t c) {
+        return role[k] == ref ? rd.decided() : cruising[k] ? cruise_decided(std::uint32_t(k), c) : active[k]->decoder.decided();
+    };
+
     // Triangle tri (of the head sphere) selected by ICC k in cycle c. Returns
     // true if ICC k coasts from the next triangle on.
     auto select = [&](std::uint32_t k, std::uint32_t tri, std::uint64_t c) {
@@ -408,6 +489,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     // The watchdog's picture of the active ICCs at the start of cycle c.
     auto views = [&](std::uint64_t c) {
         for (std::uint32_t k : dozers) settle(k, c, c, sphere_link.position());
+        land_all(c);
         for (std::uint32_t k = 0; k < na; ++k) {
             if (lazy[k].on) push_lazy(k, rd.decided());
             if (coast[k].on) catch_up(k, std::uint32_t(triangle_link.position()));
@@ -454,7 +536,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         // flows (no ICC selecting, no full Triangle FIFO) up to the next
         // waiting ICC's triangles, or is held by full Triangle FIFOs until the
         // first of them is popped.
-        if (t_has && (n_ref == 0 || rd.decided() > ts)) {
+        if (t_has && (n_ref == 0 || rd.decided() > ts) && cruisers.empty()) {
             const bool s_steady = individuals.empty() && dozers.empty() && n_ref > 0 && s_has && rp.batches() == 1 &&
                                   rp.in_flight() == stages && rp.has_output() && !rf.empty() && !rf.full();
             bool s_done = !s_has && rf.empty() && rp.in_flight() == 0 && dozers.empty();
@@ -544,7 +626,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
             t_ok = t_ok && active[k]->decoder.decided() > ts;
         }
         s_ok = s_ok && dozers_full == 0;
-        t_ok = t_ok && doze_decided > ts;
+        t_ok = t_ok && doze_decided > ts && (cruisers.empty() || std::int64_t(cycle) + cruise_offset > std::int64_t(ts));
         if (t_ok)
             for (std::uint32_t k : full_now)
                 if (tri_blocker(k)) t_ok = false;
@@ -557,13 +639,16 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
             if (n_ref && rd.decided() <= ts) ++lazy_undecided;
             for (std::uint32_t k : individuals)
                 if (active[k]->decoder.decided() <= ts) active[k]->triangle_selector.add_blocked_undecided(1);
+            for (std::uint32_t k : cruisers)
+                if (cruise_decided(k, cycle) <= ts) active[k]->triangle_selector.add_blocked_undecided(1);
             for (std::uint32_t k : full_now)
-                if (decided_of(k) > ts && tri_blocker(k))
+                if (decided_of(k, cycle) > ts && tri_blocker(k))
                     active[k]->triangle_selector.note_blocked_full(active[k]->triangle_fifo);
         }
         std::int64_t s = -1, t = -1;
         broadcast(s_has, s_ok, t_has, t_ok, s, t);
         const bool spheres_pending = sphere_link.has_record();
+        if (s < 0) ++no_sphere_cycles;
         if (s >= 0 && sphere_link.position() >= doze_fill) {  // a dozer's Sphere FIFO is full from the next cycle
             for (std::uint32_t k : dozers)
                 if (doze[k].full_from == kNever && doze[k].fill_pos <= sphere_link.position()) {
@@ -688,7 +773,36 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 doze_bounds();
                 continue;
             }
+            if (may_cruise && !lazy[k].on && !c.psi.stuck() && c.psi.in_flight() == stages && c.psi.free_to_issue() &&
+                c.psi.has_output() && !c.sphere_fifo.empty() && !c.sphere_fifo.full()) {
+                const std::uint32_t d0 = c.decoder.decided();
+                const std::uint32_t x = next_queued(k, d0);
+                if (x >= d0 + kMinCruise) {
+                    cruise[k] = Cruise{cycle + 1, d0, c.sphere_fifo.size(), sphere_link.position(), no_sphere_cycles,
+                                       cycle + 1 + (x - d0)};
+                    cruising[k] = 1;
+                    cruisers.push_back(k);
+                    cruise_bounds();
+                    individuals[i] = individuals.back();
+                    individuals.pop_back();
+                    continue;
+                }
+            }
             ++i;
+        }
+        // Cruising ICCs whose next queued sphere leaves the pipe next cycle, or whose Sphere FIFO is dry then.
+        if (!cruisers.empty() && (cruise_end <= cycle + 1 || no_sphere_cycles >= cruise_dry)) {
+            for (std::size_t i = 0; i < cruisers.size();) {
+                const std::uint32_t k = cruisers[i];
+                if (cruise[k].end <= cycle + 1 || no_sphere_cycles >= cruise[k].nb0 + cruise[k].count0) {
+                    land(k, cycle + 1);
+                    cruisers[i] = cruisers.back();
+                    cruisers.pop_back();
+                } else {
+                    ++i;
+                }
+            }
+            cruise_bounds();
         }
 
         // ---- Triangle FIFOs full at the start of the next cycle ----------
@@ -709,10 +823,14 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         if (!sphere_link.has_record() && !triangle_link.has_record() && selecting.empty() &&
             (p.drain ? max_done : prev_done) < cycle)
             break;
-        if (++since_sync_ >= cfg_.sync_cycles && !sync_time(cycle, watch, max_done, [&] { return views(cycle); }))
+        std::uint64_t cruised = 0;  // (a cruising ICC's decisions are progress the watchdog must see)
+        if (since_sync_ + 1 >= cfg_.sync_cycles)
+            for (std::uint32_t k : cruisers) cruised += cruise_decided(k, cycle);
+        if (++since_sync_ >= cfg_.sync_cycles && !sync_time(cycle, watch, max_done + cruised, [&] { return views(cycle); }))
             return cycle;
     }
     for (std::uint32_t k : dozers) settle(k, cycle, cycle, sphere_link.position());
+    land_all(cycle);
     for (std::uint32_t k = 0; k < na; ++k) {
         if (lazy[k].on) push_lazy(k, rd.decided());
         if (role[k] == ref) adopt_reference(k);

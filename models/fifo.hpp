@@ -113,6 +113,14 @@ public:
         ++first_;
         --count_;
     }
+    // Event-driven simulation: `popped` spheres taken from the front and
+    // `pushed` received behind them, in a run of cycles in which it never ran
+    // dry nor grew past its occupancy at the start.
+    void cruise(std::uint32_t popped, std::uint32_t pushed) {
+        first_ += popped;
+        count_ = count_ - popped + pushed;
+        stats_.pushes += pushed;
+    }
     // Event-driven simulation: spheres first, first+1, ... (n of them)
     // pushed one per cycle with no pop between them.
     void push_run(std::uint32_t first, std::uint32_t n) {

@@ -106,33 +106,15 @@ public:
     // Steady streaming (one sphere in and one result out per cycle, one batch
     // per sphere, a full pipe): n cycles in which spheres next, next+1, ...
     // enter. Only for a pipe whose results are not looked at (no hits).
-    void fast_forward(std::uint64_t n, std::uint32_t next) {
-        const std::size_t depth = count_;  // entries issued in the last `depth` cycles
-        auto push = [&](std::uint64_t j) {
-            PsiResult& r = ring_[tail_];
-            tail_ = tail_ + 1 == ring_.size() ? 0 : tail_ + 1;
-            ++count_;
-            r.sphere = std::uint32_t(next + j);
-            next_sphere_ = r.sphere + 1;
-            r.rows = r.cols = 0;
-            r.cut = false;
-            r.ready = t_ + j + params_.stages;
-        };
-        if (n >= depth) {
-            head_ = tail_ = count_ = 0;
-            for (std::uint64_t j = n - depth; j < n; ++j) push(j);
-        } else {
-            for (std::uint64_t j = 0; j < n; ++j) {
-                pop_output();
-                push(j);
-            }
-        }
-        t_ += n;
-        next_issue_ = t_;
-        next_sphere_ = std::uint32_t(next + n);
-        group_spheres_ += n;
-    }
-
+    void fast_forward(std::uint64_t n, std::uint32_t next) { stream(n, next, false); }
+    // Steady streaming of this pipe's own (event-driven simulation): n
+    // cycles, each popping a result the Decoder does not queue and issuing
+    // the next sphere (next_sphere_, next_sphere_ + 1, ...) from a Sphere
+    // FIFO that does not run dry. Only for one batch per sphere and a full
+    // pipe that is free to issue.
+    void cruise(std::uint64_t n) { stream(n, next_sphere_, true); }
+    // Free to issue a sphere this cycle (no later batch of the last one pending).
+    bool free_to_issue() const { return t_ >= next_issue_; }
     // n cycles with nothing in flight and nothing to take (event-driven simulation).
     void idle(std::uint64_t n) { t_ += n; }
     // Fault injection (sim.fault = stuck_psi): takes no sphere and advances no stage from now on.
@@ -168,6 +150,37 @@ public:
     const Stats& stats() const { return stats_; }
 
 private:
+    // n cycles of steady streaming from sphere `next` on; with `results`
+    // the spheres' masks are filled in from the group's lists.
+    void stream(std::uint64_t n, std::uint32_t next, bool results) {
+        const std::size_t depth = count_;  // results popped and spheres issued one a cycle: it stays
+        auto push = [&](std::uint64_t j) {
+            PsiResult& r = ring_[tail_];
+            tail_ = tail_ + 1 == ring_.size() ? 0 : tail_ + 1;
+            ++count_;
+            r.sphere = std::uint32_t(next + j);
+            if (results) {
+                fill(r);
+            } else {
+                r.rows = r.cols = 0;
+                r.cut = false;
+            }
+            r.ready = t_ + j + params_.stages;
+        };
+        if (n >= depth) {
+            head_ = tail_ = count_ = 0;
+            for (std::uint64_t j = n - depth; j < n; ++j) push(j);
+        } else {
+            for (std::uint64_t j = 0; j < n; ++j) {
+                pop_output();
+                push(j);
+            }
+        }
+        t_ += n;
+        next_issue_ = t_;
+        next_sphere_ = std::uint32_t(next + n);
+        group_spheres_ += n;
+    }
     // The result for r.sphere from the group's lists (spheres arrive in
     // ascending order, so the cursors only move forward).
     void fill(PsiResult& r) {

@@ -4,7 +4,8 @@ of `raplas simulate --json` except wall-clock ones (every key present in
 either JSON), over a seeded grid of scenes, ICC counts, Triangle, Sphere and PlaneID
 FIFO depths, per-pass host overheads, SystemC sync intervals, stall policies, PSI pipe counts and stages, RTI pipe counts and
 stages, triangle-stream lags, both Triangle Selector readings, the Ray
-Data Fetcher's cycles on a triangle with no pair, and overlapped passes. Each scene's trace carries
+Data Fetcher's cycles on a triangle with no pair, and overlapped passes, and at
+two points of the `paper` machine's own FIFO depths. Each scene's trace carries
 the pair-less spheres (it serves both readings); a trace made for the
 row-and-column reading alone must give the same JSON under that reading."""
 import json
@@ -14,7 +15,7 @@ import subprocess
 import sys
 import tempfile
 
-from testlib import PROVENANCE, finish, json_diff, provenance_diff, small_scenes
+from testlib import PROVENANCE, finish, json_diff, provenance_diff, report, small_scenes
 
 raplas, root = sys.argv[1], os.path.abspath(sys.argv[2])
 # configurations per scene: 10; the sanitizer build passes fewer (tests/CMakeLists.txt)
@@ -38,8 +39,17 @@ with tempfile.TemporaryDirectory() as tmp:
                             "--json", path, "-q"] + cfg, check=True)
             return json.load(open(path))
 
+        def check(cfg, with_both_trace):
+            global failures, points
+            out = {mode: simulate(trace, mode, cfg) for mode in ("cycle", "event")}
+            d = json_diff(out["cycle"], out["event"], SKIP) + provenance_diff(out["cycle"], out["event"], {"sim.mode"})
+            if with_both_trace:  # the row-and-column trace gives the same figures under its reading
+                d += [f"both-trace {x}" for x in json_diff(out["event"], simulate(both_trace, "event", cfg), SKIP)]
+            points += 1
+            failures += report(name, cfg, d, out["cycle"]["total_cycles"])
+
         for i in range(points_per_scene):
-            cfg = ["--iccs", str(rng.choice([1, 2, 3, 5, 16])), "--fifo", str(rng.choice([1, 2, 3, 10, 100, 1000])),
+            check(["--iccs", str(rng.choice([1, 2, 3, 5, 16])), "--fifo", str(rng.choice([1, 2, 3, 10, 100, 1000])),
                    "--set", f"fifo.planeid_depth={rng.choice([1, 2, 16])}",
                    "--set", f"fifo.sphere_depth={rng.choice([1, 3, 1000])}",
                    "--set", f"host.pass_overhead_cycles={rng.choice([0, 0, 5])}",
@@ -53,16 +63,9 @@ with tempfile.TemporaryDirectory() as tmp:
                    "--set", f"icc.rdf_empty_cycles={rng.choice([0, 1, 1, 3])}",
                    "--set", f"link.triangle_lag_cycles={rng.choice([0, 0, 7, 40])}",
                    "--set", f"host.overlap_passes={'true' if i % 4 >= 2 else 'false'}",
-                   "--set", f"sim.functional={rng.choice(['compute', 'trace'])}"]
-            out = {mode: simulate(trace, mode, cfg) for mode in ("cycle", "event")}
-            d = json_diff(out["cycle"], out["event"], SKIP) + provenance_diff(out["cycle"], out["event"], {"sim.mode"})
-            if i == 0:  # the row-and-column trace gives the same figures under its reading
-                d += [f"both-trace {x}" for x in json_diff(out["event"], simulate(both_trace, "event", cfg), SKIP)]
-            points += 1
-            if d:
-                failures += 1
-                print(f"FAIL {name} {' '.join(cfg)}:\n  " + "\n  ".join(d[:8]))
-            else:
-                print(f"ok   {name} {' '.join(cfg)}: {out['cycle']['total_cycles']} cycles")
+                   "--set", f"sim.functional={rng.choice(['compute', 'trace'])}"], i == 0)
+        # the `paper` machine's own FIFO depths (its 1000-deep PlaneID FIFO too), besides the random grid
+        check(["--iccs", "4", "--fifo", "1000", "--set", "sim.functional=trace"], False)
+        check(["--iccs", "16", "--fifo", "100", "--set", "sim.functional=compute"], False)
 print(f"{points - failures} passed, {failures} failed")
 finish(failures)

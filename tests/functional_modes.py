@@ -14,7 +14,7 @@ import subprocess
 import sys
 import tempfile
 
-from testlib import PROVENANCE, finish, json_diff, provenance_diff, small_scenes
+from testlib import PROVENANCE, finish, json_diff, provenance_diff, report, small_scenes
 
 raplas, root = sys.argv[1], os.path.abspath(sys.argv[2])
 points_per_trace = int(sys.argv[3]) if len(sys.argv) > 3 else 3
@@ -60,10 +60,6 @@ with tempfile.TemporaryDirectory() as tmp:
                 if hits == 0 or any(icc["rti"]["hits"] for icc in t["iccs_detail"]):
                     d.append(f"RTI hits: compute {hits}, trace not 0")
                 points += 1
-                if d:
-                    failures += 1
-                    print(f"FAIL {name} {' '.join(cfg)}:\n  " + "\n  ".join(d[:8]))
-                else:
-                    print(f"ok   {name} {' '.join(cfg)}: {c['total_cycles']} cycles")
+                failures += report(name, cfg, d, c["total_cycles"])
 print(f"{points - failures} passed, {failures} failed")
 finish(failures)

@@ -90,6 +90,15 @@ def provenance_diff(a, b, varied):
     return d
 
 
+def report(name, cfg, differences, cycles):
+    """Prints one grid point's line (its first differences if any); True if it failed."""
+    if differences:
+        print(f"FAIL {name} {' '.join(cfg)}:\n  " + "\n  ".join(differences[:8]))
+        return True
+    print(f"ok   {name} {' '.join(cfg)}: {cycles} cycles")
+    return False
+
+
 def finish(failures):
     """Exit: 1 on failures, else 77 (skipped) when shared scenes were missing, else 0."""
     sys.exit(1 if failures else SKIP_EXIT if _shared_missing else 0)
