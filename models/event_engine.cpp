@@ -55,6 +55,8 @@
 //     has stood still in as many cycles as that FIFO held) or its next
 //     queued sphere leaves the pipe: it "cruises", left out of the per-cycle
 //     steps, and is brought up to date in one step then.
+//     The skips of 3. run past dozers and cruisers, stopping short of a
+//     dozer's Sphere FIFO filling, a cruise's end or its FIFO running dry.
 // The equivalence with the cycle-by-cycle mode is checked in CI on a grid of
 // scenes, ICC counts, FIFO depths and policies (tests/equivalence_modes.py).
 #include <algorithm>
@@ -536,10 +538,15 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         // flows (no ICC selecting, no full Triangle FIFO) up to the next
         // waiting ICC's triangles, or is held by full Triangle FIFOs until the
         // first of them is popped.
-        if (t_has && (n_ref == 0 || rd.decided() > ts) && cruisers.empty()) {
-            const bool s_steady = individuals.empty() && dozers.empty() && n_ref > 0 && s_has && rp.batches() == 1 &&
+        // Dozers and cruisers change only in closed form: a skip stops short of
+        // a dozer's Sphere FIFO filling, a cruise's end and its Sphere FIFO
+        // running dry. (A cruiser's decisions keep ahead of the triangle
+        // stream: it decides a sphere a cycle, and every sphere has a triangle.)
+        if (t_has && (n_ref == 0 || rd.decided() > ts) &&
+            (cruisers.empty() || std::int64_t(cycle) + cruise_offset > std::int64_t(ts))) {
+            const bool s_steady = individuals.empty() && dozers_full == 0 && n_ref > 0 && s_has && rp.batches() == 1 &&
                                   rp.in_flight() == stages && rp.has_output() && !rf.empty() && !rf.full();
-            bool s_done = !s_has && rf.empty() && rp.in_flight() == 0 && dozers.empty();
+            bool s_done = !s_has && rf.empty() && rp.in_flight() == 0 && dozers.empty() && cruisers.empty();
             bool s_frozen = s_has && !(individuals.empty() && dozers.empty()) && rf.empty() && rp.drained() &&
                             doze_decided > ts;
             bool stops_spheres = dozers_full > 0;
@@ -571,6 +578,11 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 d = std::min<std::uint64_t>(d, sphere_link.end() - sp);
                 if (!kept_at.empty()) d = std::min<std::uint64_t>(d, kept_at.min_key() - rp.output().sphere);
             }
+            if (s_steady && !dozers.empty()) d = std::min<std::uint64_t>(d, doze_fill - sp);
+            if (!cruisers.empty()) {
+                d = std::min<std::uint64_t>(d, cruise_end - cycle);
+                if (!s_steady) d = std::min<std::uint64_t>(d, cruise_dry - no_sphere_cycles);
+            }
             if (s_frozen && t_flows && min_decided < sphere_memory.size())  // (no decision while frozen)
                 d = std::min<std::uint64_t>(d, first_tri(min_decided) - tp);
             if (s_frozen && t_flows)  // a coasting ICC's pop can free its Decoder
@@ -588,11 +600,13 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                     rf.advance(std::uint32_t(d));
                     rd.set_decided(rd.decided() + std::uint32_t(d));
                 } else if (s_frozen) {
+                    no_sphere_cycles += d;
                     sphere_link.stalled(d);
                     rp.add_starved(d);
                     rp.idle(d);
                     for (std::uint32_t k : individuals) active[k]->hold_front(d);
                 } else {
+                    no_sphere_cycles += d;
                     sphere_link.idle(d);
                     rp.idle(d);
                     for (std::uint32_t k : individuals) active[k]->psi.idle(d);
