@@ -381,19 +381,24 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         }
     };
     auto cruise_decided = [&](std::uint32_t k, std::uint64_t c) { return std::uint32_t(cruise[k].d0 + (c - cruise[k].c0)); };
-    // The first sphere from `from` on that ICC k's Decoder queues (the sphere count if none).
+    // The first sphere from `from` on that ICC k's Decoder queues (the sphere
+    // count if none). An ICC that cannot cruise asks again a cycle later, one
+    // sphere on: the last answer x, found from `queued_from`, holds for every
+    // `from` in [queued_from, x].
+    std::vector<std::uint32_t> queued_from(na, ~std::uint32_t(0)), queued_at(na, 0);
     auto next_queued = [&](std::uint32_t k, std::uint32_t from) {
+        if (queued_from[k] <= from && from <= queued_at[k]) return queued_at[k];
         const GroupUnit& u = active[k]->unit();
         const auto& hits = u.sphere_hits();
-        auto h = std::lower_bound(hits.begin(), hits.end(), from,
-                                  [](const SphereHitRec& r, std::uint32_t x) { return r.sphere < x; });
+        const auto h = first_hit_from(hits, from);
         std::uint32_t x = h == hits.end() ? std::uint32_t(sphere_memory.size()) : h->sphere;
         if (keep_pairless) {
             const auto& runs = u.pairless();
-            auto r = std::lower_bound(runs.begin(), runs.end(), from,
-                                      [](const SphereRun& a, std::uint32_t v) { return a.end() <= v; });
+            const auto r = first_run_from(runs, from);
             if (r != runs.end()) x = std::min(x, std::max(r->first, from));
         }
+        queued_from[k] = from;
+        queued_at[k] = x;
         return x;
     };
     // Cruising ICC k brought up to the start of cycle c (the sphere link now at its position then).

@@ -93,14 +93,8 @@ public:
         // (the cursors start at the first sphere in flight, or the next to come)
         const std::uint32_t from = count_ ? ring_[head_].sphere : o.next_sphere_;
         next_sphere_ = o.next_sphere_;
-        cursor_ = std::size_t(std::lower_bound(hits_->begin(), hits_->end(), from,
-                                               [](const SphereHitRec& h, std::uint32_t x) { return h.sphere < x; }) -
-                              hits_->begin());
-        run_cursor_ = 0;
-        if (pairless_)
-            run_cursor_ = std::size_t(std::lower_bound(pairless_->begin(), pairless_->end(), from,
-                                                       [](const SphereRun& r, std::uint32_t x) { return r.end() <= x; }) -
-                                      pairless_->begin());
+        cursor_ = std::size_t(first_hit_from(*hits_, from) - hits_->begin());
+        run_cursor_ = pairless_ ? std::size_t(first_run_from(*pairless_, from) - pairless_->begin()) : 0;
         for (std::size_t i = 0, j = head_; i < count_; ++i, j = j + 1 == ring_.size() ? 0 : j + 1) fill(ring_[j]);
     }
     // Steady streaming (one sphere in and one result out per cycle, one batch

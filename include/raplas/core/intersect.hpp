@@ -329,6 +329,17 @@ struct SphereRun {
     bool operator==(const SphereRun& o) const { return first == o.first && count == o.count; }
 };
 
+// In a list of sphere hits in sphere order, the first at or after sphere s.
+inline std::vector<SphereHitRec>::const_iterator first_hit_from(const std::vector<SphereHitRec>& hits, std::uint32_t s) {
+    return std::lower_bound(hits.begin(), hits.end(), s, [](const SphereHitRec& h, std::uint32_t x) { return h.sphere < x; });
+}
+
+// In a list of runs in sphere order, the first that ends after sphere s
+// (holds s, or comes after it).
+inline std::vector<SphereRun>::const_iterator first_run_from(const std::vector<SphereRun>& runs, std::uint32_t s) {
+    return std::lower_bound(runs.begin(), runs.end(), s, [](const SphereRun& r, std::uint32_t x) { return r.end() <= x; });
+}
+
 // Appends sphere i (ascending) to a list of runs.
 inline void add_to_runs(std::vector<SphereRun>& runs, std::uint32_t i) {
     if (!runs.empty() && runs.back().end() == i) ++runs.back().count;
