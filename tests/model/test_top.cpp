@@ -24,6 +24,17 @@ SimConfig base_config(std::uint32_t iccs, std::uint32_t depth) {
     return c;
 }
 
+// Every sphere hit by 2 row and 3 column planes: m = 6 ray tests per
+// triangle. When the RTI is the bottleneck from the first triangle on, the
+// pass takes S*m + L_rti + L_psi + 3 cycles.
+constexpr std::uint32_t kHitSpheres = 300, kHitTests = 6;
+Trace every_sphere_hit_trace() {
+    return test::hand_trace(kHitSpheres, 16, 0b11, 0b111, std::vector<bool>(kHitSpheres, true));
+}
+std::uint64_t rti_bound_cycles(const SimConfig& c) {
+    return std::uint64_t(kHitSpheres) * kHitTests + c.icc.rti.stages + c.icc.psi.stages + 3;
+}
+
 class TopClosedForm : public ::testing::TestWithParam<SimMode> {
 protected:
     void SetUp() override { g_mode = GetParam(); }
@@ -57,14 +68,13 @@ TEST_P(TopClosedForm, TriangleLagBeyondTheDecisionLatencyAddsItsExcess) {
 
 TEST_P(TopClosedForm, EverySphereHitDeepFifo) {
     // Every triangle needs m = 2 x 3 ray tests; the RTI is the bottleneck from
-    // the first triangle on: S*m + L_rti + L_psi + 3 cycles.
-    const std::uint32_t S = 300, m = 6;
-    Trace t = test::hand_trace(S, 16, 0b11, 0b111, std::vector<bool>(S, true));
+    // the first triangle on.
+    Trace t = every_sphere_hit_trace();
     SimConfig c = base_config(1, 1000);
     SimResult r = simulate(t, c);
-    EXPECT_EQ(r.total_cycles, std::uint64_t(S) * m + c.icc.rti.stages + c.icc.psi.stages + 3);
-    EXPECT_EQ(r.iccs[0].rti.tests, std::uint64_t(S) * m);
-    EXPECT_EQ(r.iccs[0].rti.busy_cycles, std::uint64_t(S) * m);
+    EXPECT_EQ(r.total_cycles, rti_bound_cycles(c));
+    EXPECT_EQ(r.iccs[0].rti.tests, std::uint64_t(kHitSpheres) * kHitTests);
+    EXPECT_EQ(r.iccs[0].rti.busy_cycles, std::uint64_t(kHitSpheres) * kHitTests);
 }
 
 TEST_P(TopClosedForm, HeldDecoderStopsTheSphereStreamWithoutStarvingTheRti) {
@@ -72,17 +82,16 @@ TEST_P(TopClosedForm, HeldDecoderStopsTheSphereStreamWithoutStarvingTheRti) {
     // fills, the 16-deep PlaneID FIFO behind it, the Decoder holds, the
     // Sphere FIFO fills and stops the sphere stream (the event mode lets
     // such an ICC doze and settles its counts when a selection frees it).
-    // The RTI still never waits: S*m + L_rti + L_psi + 3 cycles.
-    const std::uint32_t S = 300, m = 6;
-    Trace t = test::hand_trace(S, 16, 0b11, 0b111, std::vector<bool>(S, true));
+    // The RTI still never waits.
+    Trace t = every_sphere_hit_trace();
     SimConfig c = base_config(1, 10);
     SimResult r = simulate(t, c);
-    EXPECT_EQ(r.total_cycles, std::uint64_t(S) * m + c.icc.rti.stages + c.icc.psi.stages + 3);
+    EXPECT_EQ(r.total_cycles, rti_bound_cycles(c));
     const IccSnapshot& i = r.iccs[0];
-    EXPECT_EQ(i.rti.busy_cycles, std::uint64_t(S) * m);
-    EXPECT_EQ(i.planeid_fifo.pushes, S);
+    EXPECT_EQ(i.rti.busy_cycles, std::uint64_t(kHitSpheres) * kHitTests);
+    EXPECT_EQ(i.planeid_fifo.pushes, kHitSpheres);
     EXPECT_EQ(i.planeid_fifo.max_occupancy, 16u);
-    EXPECT_EQ(i.sphere_fifo.pushes, S);
+    EXPECT_EQ(i.sphere_fifo.pushes, kHitSpheres);
     EXPECT_EQ(i.sphere_fifo.max_occupancy, 10u);
     EXPECT_GT(i.decoder.full_cycles, 0u);
     // The PSI holds exactly when the Decoder does, and both FIFOs are full then.
