@@ -42,9 +42,13 @@ inline ArithBounds arith_bounds(const ArithSoft& a) {
 class SphereTree {
 public:
     static constexpr std::uint32_t kLeaf = 8;
-    struct Node {
-        double cx, cy, cz, r;
-        double cnorm;  // |centre|
+    // 32 bytes, two to a cache line: a group's walk reads thousands of them.
+    // The centre is rounded to float and the radius grown by that rounding
+    // and rounded up, so the node still holds its spheres (the tests read it
+    // in double).
+    struct alignas(32) Node {
+        float cx, cy, cz, r;
+        float cnorm;  // >= |centre|
         std::uint32_t lo, hi, right;
     };
 
@@ -60,6 +64,12 @@ public:
 private:
     std::vector<Node> nodes_;
 
+    // The least float at or above x (x >= 0, finite).
+    static float up_to_float(double x) {
+        const float f = float(x);
+        return double(f) >= x ? f : std::nextafter(f, HUGE_VALF);
+    }
+
     std::uint32_t build(const std::vector<Sphere>& s, std::uint32_t lo, std::uint32_t hi) {
         // Centre of the bounding box of the spheres, radius reaching the
         // farthest sphere surface (computed in double, rounded up below).
@@ -72,16 +82,17 @@ private:
             }
         }
         Node n{};
-        n.cx = 0.5 * (mn[0] + mx[0]);
-        n.cy = 0.5 * (mn[1] + mx[1]);
-        n.cz = 0.5 * (mn[2] + mx[2]);
+        n.cx = float(0.5 * (mn[0] + mx[0]));
+        n.cy = float(0.5 * (mn[1] + mx[1]));
+        n.cz = float(0.5 * (mn[2] + mx[2]));
+        const double cx = n.cx, cy = n.cy, cz = n.cz;  // (the float centre, exactly)
         double r = 0;
         for (std::uint32_t i = lo; i < hi; ++i) {
-            const double dx = s[i].c.x - n.cx, dy = s[i].c.y - n.cy, dz = s[i].c.z - n.cz;
+            const double dx = s[i].c.x - cx, dy = s[i].c.y - cy, dz = s[i].c.z - cz;
             r = std::max(r, std::sqrt(dx * dx + dy * dy + dz * dz) + double(s[i].r));
         }
-        n.r = r * (1 + 0x1p-40);  // cover the rounding of the distances above
-        n.cnorm = std::sqrt(n.cx * n.cx + n.cy * n.cy + n.cz * n.cz);
+        n.r = up_to_float(r * (1 + 0x1p-40));  // cover the rounding of the distances above
+        n.cnorm = up_to_float(std::sqrt(cx * cx + cy * cy + cz * cz) * (1 + 0x1p-50));
         n.lo = lo;
         n.hi = hi;
         n.right = 0;
