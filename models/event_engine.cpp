@@ -332,6 +332,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         doze[k] = z;
         dozing[k] = 1;
         dozers.push_back(k);
+        doze_bounds();
     };
     // Dozing ICC k wakes in cycle c, after the link decisions (its FIFOs
     // popped by a selection); `s`: the sphere broadcast in c (-1: none),
@@ -789,7 +790,6 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 start_doze(k, cycle);
                 individuals[i] = individuals.back();
                 individuals.pop_back();
-                doze_bounds();
                 continue;
             }
             if (may_cruise && !lazy[k].on && !c.psi.stuck() && c.psi.in_flight() == stages && c.psi.free_to_issue() &&

@@ -43,9 +43,9 @@ class SphereTree {
 public:
     static constexpr std::uint32_t kLeaf = 8;
     // 32 bytes, two to a cache line: a group's walk reads thousands of them.
-    // The centre is rounded to float and the radius grown by that rounding
-    // and rounded up, so the node still holds its spheres (the tests read it
-    // in double).
+    // The centre is rounded to float, the radius is measured from that float
+    // centre and rounded up, and |centre| is rounded up: the node still holds
+    // its spheres (the tests read it in double).
     struct alignas(32) Node {
         float cx, cy, cz, r;
         float cnorm;  // >= |centre|
