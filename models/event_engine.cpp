@@ -35,8 +35,9 @@
 //     its Triangle FIFO can neither fill nor pass its largest occupancy so
 //     far, the run changes nothing in it but counts and its PlaneID /
 //     First-Triangle-ID FIFOs: it "coasts", taken out of the selection until
-//     the run's last triangle, and its FIFOs are brought up to date whenever
-//     they are read. (Not with icc.rdf_empty_cycles > 1, where such triangles
+//     the run's last triangle (past it, to the next queued sphere, when that
+//     is queued already), and its FIFOs are brought up to date whenever they
+//     are read. (Not with icc.rdf_empty_cycles > 1, where such triangles
 //     pile up; with 0 only from an idle Fetcher; not with a one-entry
 //     Triangle FIFO, which one of them fills.)
 //  5. The same runs on the Decoder's side: a reference ICC queues the
@@ -182,20 +183,24 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     auto first_tri = [&](std::uint32_t sphere) { return sphere_memory.peek(sphere).first_tri; };
 
     // Coasting (4. in the header): ICC k takes the triangles `first` up to
-    // `end` - 2 of a run of pair-less spheres without being touched; `end` - 1
-    // it selects as usual (it waits for it in `waiting`). Each of those
-    // triangles holds the Fetcher one cycle, so the j-th is popped in cycle
-    // max(pop0 + j, c_j + 1), pop0 the pop cycle of the triangle that began
-    // the coast and c_j the cycle it is broadcast: with the Fetcher idle then
-    // (pop0 = c_0 + 1), the cycle after it. The coast is cut where the
-    // Triangle FIFO could fill or exceed its largest occupancy so far, so
-    // every figure of the Selector, FIFO and Fetcher is a count, and the
-    // Fetcher's record is rebuilt when `end` - 1 is selected (end_coast).
-    // Its PlaneID and First-Triangle-ID FIFOs are popped when someone reads
-    // them (catch_up): the Decoder, and the ICC's own sphere side while it is
+    // `stop` - 1 of a run of pair-less spheres without being touched, and
+    // selects as usual the triangle it waits for in `waiting` next: the
+    // run's last one (`stop` - 1 is then the one before it) or, when the
+    // entry behind the run is queued already, that entry's first triangle
+    // (the coast then takes the whole run). Each coasted triangle holds the
+    // Fetcher one cycle, so the j-th is popped in cycle max(pop0 + j,
+    // c_j + 1), pop0 the pop cycle of the triangle that began the coast and
+    // c_j the cycle it is broadcast: with the Fetcher idle then (pop0 =
+    // c_0 + 1), the cycle after it. The coast is cut where the Triangle FIFO
+    // could fill or exceed its largest occupancy so far, so every figure of
+    // the Selector, FIFO and Fetcher is a count, and the Fetcher's record is
+    // rebuilt when the next triangle is selected (end_coast). Its PlaneID
+    // and First-Triangle-ID FIFOs are popped when someone reads them
+    // (catch_up): the Decoder, and the ICC's own sphere side while it is
     // individual.
     struct Coast {
-        std::uint32_t first = 0, pos = 0, end = 0;
+        std::uint32_t first = 0, pos = 0, stop = 0;
+        std::uint32_t next = 0;  // the triangle it selects next, in `waiting`
         std::uint64_t pop0 = 0;  // the pop cycle of the triangle before `first`, which began the coast
         bool on = false;
     };
@@ -204,6 +209,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     // Coasting ICC k has taken every triangle below `upto` (the link's position).
     auto catch_up = [&](std::uint32_t k, std::uint32_t upto) {
         Coast& co = coast[k];
+        upto = std::min(upto, co.stop);
         if (upto <= co.pos) return;
         Icc& icc = *active[k];
         const std::uint64_t taken = upto - co.pos;
@@ -211,13 +217,13 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         icc.triangle_fifo.record_push(1, taken);  // (each finds at most its quiet_limit: select's cut)
         icc.ray_data_fetcher.note_empty_triangles(taken);
         Fifo<FirstTriEntry>& f = icc.first_tri_fifo;
-        while (f.front().first + f.front().count <= upto) {  // (the run's last sphere stays: upto < end)
+        while (f.front().first + f.front().count <= upto) {  // (the entry of `next` stays)
             f.pop();
             icc.planeid_fifo.pop();
         }
         co.pos = upto;
     };
-    // Coasting ICC k is about to select its run's last triangle in cycle c:
+    // Coasting ICC k is about to select its next triangle in cycle c:
     // its Fetcher record as the coasted triangles left it. The j-th of them
     // (j = 1..L) is popped in cycle max(pop0 + j, c_j + 1), c_j < c the cycle
     // it was broadcast: those still in the FIFO in cycle c are the ones with
@@ -226,7 +232,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     auto end_coast = [&](std::uint32_t k, std::uint64_t c) {
         Coast& co = coast[k];
         Back& b = back[k];
-        const std::uint64_t L = co.end - 1 - co.first;
+        const std::uint64_t L = co.stop - co.first;
         for (std::uint64_t j = c >= co.pop0 ? c - co.pop0 + 1 : 1; j <= L; ++j) b.starts.push_back(co.pop0 + j);
         b.next_cyc = co.pop0 + L;
         b.next_used = rdf_empty ? rti_pipes : 0;  // (0: the next slot is free after it)
@@ -462,27 +468,34 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         // Cycles the Fetcher is still busy with older triangles, and the FIFO's occupancy.
         const std::uint64_t backlog = start - c - 1, occupancy = b.starts.size();
         if ((backlog || occupancy > 1) && rdf_empty != 1) return false;
-        // The run of contiguous pair-less spheres in the FIFOs from here.
+        // The run of contiguous pair-less spheres in the FIFOs from here, and
+        // whether the entry behind it is queued.
         const Fifo<FirstTriEntry>& f = icc.first_tri_fifo;
         const Fifo<PlaneIdEntry>& pf = icc.planeid_fifo;
-        std::uint32_t end = tri + 1;
-        for (std::uint32_t i = 0; i < f.size(); ++i) {
+        std::uint32_t end = tri + 1, i = 0;
+        for (; i < f.size(); ++i) {
             const PlaneIdEntry& pm = pf.at(i);
             const FirstTriEntry& e = f.at(i);
             if ((pm.rows && pm.cols) || e.first > end) break;
             end = e.first + e.count;
         }
-        if (end < tri + 3) return false;  // nothing to skip
         // The i-th triangle of the coast finds at most occupancy + min(i,
         // backlog) entries (older ones pop no later than this one, and the
-        // Fetcher takes one of the coast's each cycle once free): stop where
-        // that could fill the FIFO or raise its largest occupancy so far.
+        // Fetcher takes one of the coast's each cycle once free): it must not
+        // fill the FIFO or raise its largest occupancy so far.
         const std::uint64_t most = icc.triangle_fifo.quiet_limit();
-        if (occupancy + std::min<std::uint64_t>(end - tri - 2, backlog) > most) {
+        auto quiet = [&](std::uint32_t stop) { return occupancy + std::min<std::uint64_t>(stop - tri - 1, backlog) <= most; };
+        if (i < f.size() && end >= tri + 2 && quiet(end)) {  // the whole run, then the entry behind it
+            coast[k] = Coast{tri + 1, tri + 1, end, f.at(i).first, start, true};
+            return true;
+        }
+        // Else up to the run's last triangle, which it selects.
+        if (end < tri + 3) return false;  // nothing to skip
+        if (!quiet(end - 1)) {
             if (occupancy >= most) return false;
             end = std::min<std::uint32_t>(end, tri + 2 + std::uint32_t(most - occupancy));
         }
-        coast[k] = Coast{tri + 1, tri + 1, end, start, true};
+        coast[k] = Coast{tri + 1, tri + 1, end - 1, end - 1, start, true};
         return true;
     };
 
@@ -684,7 +697,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
             while (!waiting.empty() && waiting.min_key() <= std::uint32_t(t))
                 waiting.pop_min([&](std::uint32_t k) {
                     if (lazy[k].on) push_lazy(k, rd.decided());
-                    if (coast[k].on) {  // its run's last triangle
+                    if (coast[k].on) {  // the triangle after its coast
                         catch_up(k, std::uint32_t(t));
                         end_coast(k, cycle);
                     }
@@ -697,7 +710,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 if (dozing[k] && (coasts || !(active[k]->planeid_fifo.full() || active[k]->first_tri_fifo.full())))
                     wake(k, cycle, s);
                 if (coasts) {
-                    waiting.push(coast[k].end - 1, k);
+                    waiting.push(coast[k].next, k);
                     selecting[i] = selecting.back();
                     selecting.pop_back();
                     continue;
@@ -786,7 +799,9 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 individuals.pop_back();
                 continue;
             }
-            if (may_doze && !coast[k].on && !lazy[k].on && !c.psi.stuck() && c.decoder_holds()) {
+            // (a coast whose run has passed pops nothing more before its next selection)
+            if (may_doze && !(coast[k].on && coast[k].pos < coast[k].stop) && !lazy[k].on && !c.psi.stuck() &&
+                c.decoder_holds()) {
                 start_doze(k, cycle);
                 individuals[i] = individuals.back();
                 individuals.pop_back();
