@@ -40,10 +40,11 @@
 //     are read. (Not with icc.rdf_empty_cycles > 1, where such triangles
 //     pile up; with 0 only from an idle Fetcher; not with a one-entry
 //     Triangle FIFO, which one of them fills.)
-//  5. The same runs on the Decoder's side: a reference ICC queues the
-//     spheres of such a run one per decision of the shared side, and while
-//     its PlaneID FIFO can neither fill nor pass its largest occupancy so far
-//     they are pushed only when its FIFOs are read.
+//  5. On the Decoder's side, a reference ICC queues each of its kept
+//     spheres in the cycle the shared side decides it; while its PlaneID
+//     FIFO can neither fill nor pass its largest occupancy so far, those
+//     pushes are made only when its FIFOs are read, and the ICC is touched
+//     once per such span, not once per sphere.
 //  6. An ICC stepped on its own whose Decoder holds (its PlaneID or
 //     First-Triangle-ID FIFO full) "dozes": until a selection pops that
 //     FIFO, only counts change and its Sphere FIFO takes the spheres
@@ -240,31 +241,76 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         b.done = std::max(b.done, b.next_cyc);
         co.on = false;
     };
-    // Lazy Decoder (5. in the header): reference ICC k queues the pair-less
-    // spheres `next` up to `end` - 1, consecutive, each in the cycle the
-    // shared side decides it; they are pushed when someone reads its FIFOs
-    // (push_lazy). The run is cut where the FIFOs could fill or pass their
-    // largest occupancy so far, so the order of these pushes and the pops
-    // between them changes no figure.
+    // Lazy Decoder (5. in the header): reference ICC k queues its kept
+    // spheres from its cursor on, each in the cycle the shared side decides
+    // it, without being touched: they are pushed when someone reads its FIFOs
+    // (push_lazy), and it is in `kept_at` only at `end`, the last sphere up
+    // to which it cannot queue more than keep its FIFOs from filling or
+    // passing their largest occupancy so far. The order of these pushes and
+    // the pops between them then changes no figure.
     struct Lazy {
-        std::uint32_t next = 0, end = 0;
+        std::uint32_t end = 0;
         bool on = false;
+        bool has = false;  // its cursor holds a sphere not pushed yet
     };
     std::vector<Lazy> lazy(na);
-    const bool may_lazy = keep_pairless && any_full && cfg_.fault == Fault::none;
+    const bool may_lazy = any_full && cfg_.fault == Fault::none;
     // Pushes ICC k's lazy spheres below `upto` (decided by now).
     auto push_lazy = [&](std::uint32_t k, std::uint32_t upto) {
         Lazy& z = lazy[k];
-        const std::uint32_t to = std::min(upto, z.end);
-        if (to <= z.next) return;
+        KeptSpheres& e = kept[k];
+        if (!z.has || e.sphere >= upto) return;
         Icc& c = *active[k];
-        for (std::uint32_t x = z.next; x < to; ++x) {
-            c.planeid_fifo.push({0, 0});
-            c.first_tri_fifo.push(info.entry(x));
+        std::uint64_t pairs = 0, pairless = 0;
+        do {
+            // (the rest of a run of pair-less spheres, decided by now, at once)
+            const std::uint32_t run = std::min(e.run_left(), upto - e.sphere - 1);
+            for (std::uint32_t y = e.sphere; y <= e.sphere + run; ++y) {
+                c.planeid_fifo.push({e.rows, e.cols});
+                c.first_tri_fifo.push(info.entry(y));
+            }
+            if (e.rows && e.cols) ++pairs;
+            else pairless += run + 1;
+            if (run) e.skip(run);
+            z.has = e.next();
+        } while (z.has && e.sphere < upto);
+        c.decoder.note_hit(false, pairs);
+        c.decoder.note_hit(true, pairless);
+    };
+    // Reference ICC k, its FIFOs as they are after sphere x was decided: lazy
+    // up to the sphere its room allows, if it has room and spheres left.
+    // (The caller has moved its cursor past x.)
+    constexpr std::uint64_t kScan = 32;
+    auto arm_lazy = [&](std::uint32_t k, std::uint32_t x) {
+        Lazy& z = lazy[k];
+        const Icc& c = *active[k];
+        const std::uint64_t most = c.planeid_fifo.quiet_limit(), occupancy = c.planeid_fifo.size();
+        z.on = z.has && most > occupancy;
+        if (!z.on) return;
+        // At most `room` spheres are queued from x + 1 to `end` when there
+        // are at most that many spheres, or when there are at most that many
+        // of its kept ones: the farther of the two (its kept spheres counted
+        // up to kScan; with nearly full FIFOs the first alone would end the
+        // span at the next sphere).
+        const std::uint64_t room = most - occupancy, counted = std::min<std::uint64_t>(room, kScan);
+        KeptSpheres ahead = kept[k];  // (at its first lazy sphere)
+        bool more = true;
+        std::uint64_t last = ahead.sphere;  // the counted-th, when there is one
+        for (std::uint64_t i = 1; i < counted && more;) {
+            const std::uint64_t run = ahead.run_left();  // (its spheres follow one another)
+            if (run >= counted - i) {
+                last = ahead.sphere + (counted - i);
+                break;
+            }
+            if (run) ahead.skip(std::uint32_t(run));
+            i += run;
+            more = ahead.next();
+            last = ahead.sphere;
+            ++i;
         }
-        c.decoder.note_hit(true, to - z.next);
-        z.next = to;
-        z.on = to < z.end;
+        const std::uint64_t end = more ? std::max<std::uint64_t>(std::uint64_t(x) + room, last) : sphere_memory.size();
+        z.end = std::uint32_t(std::min<std::uint64_t>(end, sphere_memory.size()));
+        if (z.end < sphere_memory.size()) kept_at.push(z.end, k);
     };
     // Dozing (6. in the header): individual ICC k whose Decoder holds (its
     // PlaneID or First-Triangle-ID FIFO full) changes nothing but counts
@@ -718,7 +764,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 const Fifo<FirstTriEntry>& f = active[k]->first_tri_fifo;
                 if (f.empty() || f.front().sphere != ts) {
                     if (!f.empty()) waiting.push(f.front().first, k);
-                    else if (lazy[k].on) waiting.push(first_tri(lazy[k].next), k);  // (not decided yet)
+                    else if (lazy[k].on && lazy[k].has) waiting.push(first_tri(kept[k].sphere), k);  // (not decided yet)
                     selecting[i] = selecting.back();
                     selecting.pop_back();
                 } else {
@@ -742,12 +788,17 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 kept_at.pop_min([&](std::uint32_t k) { advance(k); });
             if (!kept_at.empty() && kept_at.min_key() == x)
                 kept_at.pop_min([&](std::uint32_t k) {
+                    if (lazy[k].on) {  // the end of its lazy span
+                        push_lazy(k, x + 1);
+                        arm_lazy(k, x);
+                        if (!lazy[k].on && lazy[k].has) kept_at.push(kept[k].sphere, k);  // (its FIFOs are not empty)
+                        return;
+                    }
                     if (role[k] != ref) {
                         advance(k);
                         return;
                     }
                     Icc& c = *active[k];
-                    if (lazy[k].on) push_lazy(k, x);
                     if (coast[k].on) catch_up(k, std::uint32_t(triangle_link.position()));
                     if (c.planeid_fifo.full() || c.first_tri_fifo.full()) {
                         advance(k);
@@ -764,14 +815,11 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                     c.first_tri_fifo.push(info.entry(x));
                     c.decoder.note_hit(!(masks.rows && masks.cols));
                     if (was_empty) waiting.push(first_tri(x), k);
-                    if (may_lazy && !(masks.rows && masks.cols) && e.run_left()) {  // the rest of its run, lazily
-                        const std::uint64_t most = c.planeid_fifo.quiet_limit();
-                        const std::uint64_t occupancy = c.planeid_fifo.size();
-                        if (most > occupancy) {
-                            const std::uint32_t n = std::uint32_t(std::min<std::uint64_t>(e.run_left(), most - occupancy));
-                            e.skip(n);
-                            lazy[k] = Lazy{x + 1, x + 1 + n, true};
-                        }
+                    if (may_lazy) {  // the spheres after it, lazily
+                        lazy[k].has = e.next();
+                        arm_lazy(k, x);
+                        if (!lazy[k].on && lazy[k].has) kept_at.push(e.sphere, k);
+                        return;
                     }
                     advance(k);
                 });
