@@ -206,6 +206,30 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         bool on = false;
     };
     std::vector<Coast> coast(na);
+    // What the selections add to the Triangle Selector's, Triangle FIFO's and
+    // Fetcher's counters, per ICC, settled at the end of the pass (or when the
+    // watchdog looks): one small record per selection instead of three
+    // blocks' counters. `max_occupancy` starts at the FIFO's.
+    struct Tally {
+        std::uint32_t selected = 0, pushes = 0, triangles = 0, empty = 0, max_occupancy = 0;
+    };
+    std::vector<Tally> tally(na);
+    for (std::uint32_t k = 0; k < na; ++k)
+        tally[k].max_occupancy = std::uint32_t(active[k]->triangle_fifo.stats().max_occupancy);
+    auto settle_tallies = [&] {
+        for (std::uint32_t k = 0; k < na; ++k) {
+            Tally& t = tally[k];
+            Icc& icc = *active[k];
+            icc.triangle_selector.add_selected(t.selected);
+            icc.triangle_fifo.record_push(t.max_occupancy, t.pushes);
+            icc.ray_data_fetcher.note_triangles(t.triangles, t.empty);
+            t = Tally{0, 0, 0, 0, t.max_occupancy};
+        }
+    };
+    auto note_push = [&](Tally& t, std::size_t occupancy) {
+        ++t.pushes;
+        t.max_occupancy = std::max(t.max_occupancy, std::uint32_t(occupancy));
+    };
     const bool may_coast = keep_pairless && rdf_empty <= 1 && tri_depth >= 2 && cfg_.fault == Fault::none;
     // Coasting ICC k has taken every triangle below `upto` (the link's position).
     auto catch_up = [&](std::uint32_t k, std::uint32_t upto) {
@@ -213,10 +237,12 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         upto = std::min(upto, co.stop);
         if (upto <= co.pos) return;
         Icc& icc = *active[k];
-        const std::uint64_t taken = upto - co.pos;
-        icc.triangle_selector.add_selected(taken);
-        icc.triangle_fifo.record_push(1, taken);  // (each finds at most its quiet_limit: select's cut)
-        icc.ray_data_fetcher.note_empty_triangles(taken);
+        const std::uint32_t taken = upto - co.pos;
+        Tally& t = tally[k];
+        t.selected += taken;
+        t.pushes += taken;  // (each finds at most its quiet limit: select's cut)
+        t.triangles += taken;
+        t.empty += taken;
         Fifo<FirstTriEntry>& f = icc.first_tri_fifo;
         while (f.front().first + f.front().count <= upto) {  // (the entry of `next` stays)
             f.pop();
@@ -481,13 +507,15 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     // true if ICC k coasts from the next triangle on.
     auto select = [&](std::uint32_t k, std::uint32_t tri, std::uint64_t c) {
         Icc& icc = *active[k];
-        const PlaneIdEntry masks = icc.triangle_selector.take(tri, icc.planeid_fifo, icc.first_tri_fifo);
+        const PlaneIdEntry masks = TriangleSelector::take(tri, icc.planeid_fifo, icc.first_tri_fifo);
+        Tally& tl = tally[k];
+        ++tl.selected;
         Back& b = back[k];
         while (!b.starts.empty() && b.starts.front() <= c) b.starts.pop_front();  // popped by this cycle's Fetcher
         const std::uint64_t m = std::uint64_t(bit_count(masks.rows)) * std::uint64_t(bit_count(masks.cols));
         if (icc.rti.stuck()) {  // fault injection: the Fetcher never pops this FIFO again
             b.starts.push_back(kNever);
-            icc.triangle_fifo.record_push(std::uint32_t(b.starts.size()));
+            note_push(tl, b.starts.size());
             if (b.starts.size() >= tri_depth) full_until.push_back({k, kNever});
             max_done = kNever;
             return false;
@@ -497,7 +525,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         icc.rti.account(m, 0, slot.busy);
         max_done = std::max(max_done, b.done);
         b.starts.push_back(start);
-        icc.triangle_fifo.record_push(std::uint32_t(b.starts.size()));
+        note_push(tl, b.starts.size());
         // Full from the next cycle until the Fetcher pops the head (a full
         // FIFO takes no push, so nothing else can change that).
         if (b.starts.size() >= tri_depth) full_until.push_back({k, b.starts.front()});
@@ -509,7 +537,8 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                             icc.unit().rti_tests(masks.rows, masks.cols, tri, n,
                                                  [&](std::uint32_t ray, double t) { icc.min_distance(buf).update(ray, t, tri); }),
                             0);
-        icc.ray_data_fetcher.note_triangle(m == 0);
+        ++tl.triangles;
+        tl.empty += m == 0;
         if (!may_coast || m != 0) return false;
         // Cycles the Fetcher is still busy with older triangles, and the FIFO's occupancy.
         const std::uint64_t backlog = start - c - 1, occupancy = b.starts.size();
@@ -529,7 +558,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         // backlog) entries (older ones pop no later than this one, and the
         // Fetcher takes one of the coast's each cycle once free): it must not
         // fill the FIFO or raise its largest occupancy so far.
-        const std::uint64_t most = icc.triangle_fifo.quiet_limit();
+        const std::uint64_t most = std::min<std::uint64_t>(tl.max_occupancy, tri_depth - 1);  // (its quiet_limit)
         auto quiet = [&](std::uint32_t stop) { return occupancy + std::min<std::uint64_t>(stop - tri - 1, backlog) <= most; };
         if (i < f.size() && end >= tri + 2 && quiet(end)) {  // the whole run, then the entry behind it
             coast[k] = Coast{tri + 1, tri + 1, end, f.at(i).first, start, true};
@@ -555,6 +584,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
 
     // The watchdog's picture of the active ICCs at the start of cycle c.
     auto views = [&](std::uint64_t c) {
+        settle_tallies();
         for (std::uint32_t k : dozers) settle(k, c, c, sphere_link.position());
         land_all(c);
         for (std::uint32_t k = 0; k < na; ++k) {
@@ -911,6 +941,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         if (++since_sync_ >= cfg_.sync_cycles && !sync_time(cycle, watch, max_done + cruised, [&] { return views(cycle); }))
             return cycle;
     }
+    settle_tallies();
     for (std::uint32_t k : dozers) settle(k, cycle, cycle, sphere_link.position());
     land_all(cycle);
     for (std::uint32_t k = 0; k < na; ++k) {

@@ -95,9 +95,10 @@ public:
         ++stats_.triangles;
         stats_.empty_triangles += empty;
     }
-    void note_empty_triangles(std::uint64_t n) {
+    // Event-driven simulation: n triangles popped, `empty` of them with no pair.
+    void note_triangles(std::uint64_t n, std::uint64_t empty) {
         stats_.triangles += n;
-        stats_.empty_triangles += n;
+        stats_.empty_triangles += empty;
     }
 
     void tick(Fifo<TriWork>& in, RayTriangleIntersector& rti) {

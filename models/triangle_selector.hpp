@@ -66,10 +66,10 @@ public:
     }
     void add_blocked_undecided(std::uint64_t cycles) { stats_.blocked_undecided += cycles; }
     // Event-driven simulation: triangle `tri` of the head sphere taken; pops
-    // the head entry after its last triangle. Returns its plane masks.
-    PlaneIdEntry take(std::uint32_t tri, Fifo<PlaneIdEntry>& plane_ids, Fifo<FirstTriEntry>& first_ids) {
+    // the head entry after its last triangle. Returns its plane masks. (The
+    // caller counts it: add_selected.)
+    static PlaneIdEntry take(std::uint32_t tri, Fifo<PlaneIdEntry>& plane_ids, Fifo<FirstTriEntry>& first_ids) {
         const PlaneIdEntry p = plane_ids.front();
-        ++stats_.selected;
         const FirstTriEntry& f = first_ids.front();
         if (tri + 1 == f.first + f.count) {
             plane_ids.pop();
@@ -84,7 +84,7 @@ public:
         }
         return p;
     }
-    // Event-driven simulation: `n` triangles taken whose entries the caller pops.
+    // Event-driven simulation: `n` triangles taken.
     void add_selected(std::uint64_t n) { stats_.selected += n; }
     void note_blocked_full(Fifo<TriWork>& tri_fifo, std::uint64_t cycles = 1) {
         stats_.blocked_fifo_full += cycles;
