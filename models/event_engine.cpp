@@ -209,9 +209,11 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     // What the selections add to the Triangle Selector's, Triangle FIFO's and
     // Fetcher's counters, per ICC, settled at the end of the pass (or when the
     // watchdog looks): one small record per selection instead of three
-    // blocks' counters. `max_occupancy` starts at the FIFO's.
+    // blocks' counters. Every selected triangle is pushed into the Triangle
+    // FIFO, so `selected` counts its pushes too; `max_occupancy` starts at
+    // the FIFO's.
     struct Tally {
-        std::uint32_t selected = 0, pushes = 0, triangles = 0, empty = 0, max_occupancy = 0;
+        std::uint32_t selected = 0, triangles = 0, empty = 0, max_occupancy = 0;
     };
     std::vector<Tally> tally(na);
     for (std::uint32_t k = 0; k < na; ++k)
@@ -221,13 +223,12 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
             Tally& t = tally[k];
             Icc& icc = *active[k];
             icc.triangle_selector.add_selected(t.selected);
-            icc.triangle_fifo.record_push(t.max_occupancy, t.pushes);
+            icc.triangle_fifo.record_push(t.max_occupancy, t.selected);
             icc.ray_data_fetcher.note_triangles(t.triangles, t.empty);
-            t = Tally{0, 0, 0, 0, t.max_occupancy};
+            t = Tally{0, 0, 0, t.max_occupancy};
         }
     };
-    auto note_push = [&](Tally& t, std::size_t occupancy) {
-        ++t.pushes;
+    auto note_occupancy = [&](Tally& t, std::size_t occupancy) {
         t.max_occupancy = std::max(t.max_occupancy, std::uint32_t(occupancy));
     };
     const bool may_coast = keep_pairless && rdf_empty <= 1 && tri_depth >= 2 && cfg_.fault == Fault::none;
@@ -239,8 +240,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         Icc& icc = *active[k];
         const std::uint32_t taken = upto - co.pos;
         Tally& t = tally[k];
-        t.selected += taken;
-        t.pushes += taken;  // (each finds at most its quiet limit: select's cut)
+        t.selected += taken;  // (each finds at most its quiet limit in the FIFO: select's cut)
         t.triangles += taken;
         t.empty += taken;
         Fifo<FirstTriEntry>& f = icc.first_tri_fifo;
@@ -304,15 +304,19 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         c.decoder.note_hit(true, pairless);
     };
     // Reference ICC k, its FIFOs as they are after sphere x was decided: lazy
-    // up to the sphere its room allows, if it has room and spheres left.
-    // (The caller has moved its cursor past x.)
+    // up to the sphere its room allows, if it has room and spheres left, else
+    // back in `kept_at` at its next kept sphere. (The caller has moved its
+    // cursor past x.)
     constexpr std::uint64_t kScan = 32;
     auto arm_lazy = [&](std::uint32_t k, std::uint32_t x) {
         Lazy& z = lazy[k];
         const Icc& c = *active[k];
         const std::uint64_t most = c.planeid_fifo.quiet_limit(), occupancy = c.planeid_fifo.size();
         z.on = z.has && most > occupancy;
-        if (!z.on) return;
+        if (!z.on) {
+            if (z.has) kept_at.push(kept[k].sphere, k);  // (its FIFOs are not empty)
+            return;
+        }
         // At most `room` spheres are queued from x + 1 to `end` when there
         // are at most that many spheres, or when there are at most that many
         // of its kept ones: the farther of the two (its kept spheres counted
@@ -515,7 +519,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         const std::uint64_t m = std::uint64_t(bit_count(masks.rows)) * std::uint64_t(bit_count(masks.cols));
         if (icc.rti.stuck()) {  // fault injection: the Fetcher never pops this FIFO again
             b.starts.push_back(kNever);
-            note_push(tl, b.starts.size());
+            note_occupancy(tl, b.starts.size());
             if (b.starts.size() >= tri_depth) full_until.push_back({k, kNever});
             max_done = kNever;
             return false;
@@ -525,7 +529,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         icc.rti.account(m, 0, slot.busy);
         max_done = std::max(max_done, b.done);
         b.starts.push_back(start);
-        note_push(tl, b.starts.size());
+        note_occupancy(tl, b.starts.size());
         // Full from the next cycle until the Fetcher pops the head (a full
         // FIFO takes no push, so nothing else can change that).
         if (b.starts.size() >= tri_depth) full_until.push_back({k, b.starts.front()});
@@ -558,7 +562,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         // backlog) entries (older ones pop no later than this one, and the
         // Fetcher takes one of the coast's each cycle once free): it must not
         // fill the FIFO or raise its largest occupancy so far.
-        const std::uint64_t most = std::min<std::uint64_t>(tl.max_occupancy, tri_depth - 1);  // (its quiet_limit)
+        const std::uint64_t most = Fifo<TriWork>::quiet_limit(tl.max_occupancy, tri_depth);
         auto quiet = [&](std::uint32_t stop) { return occupancy + std::min<std::uint64_t>(stop - tri - 1, backlog) <= most; };
         if (i < f.size() && end >= tri + 2 && quiet(end)) {  // the whole run, then the entry behind it
             coast[k] = Coast{tri + 1, tri + 1, end, f.at(i).first, start, true};
@@ -821,7 +825,6 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                     if (lazy[k].on) {  // the end of its lazy span
                         push_lazy(k, x + 1);
                         arm_lazy(k, x);
-                        if (!lazy[k].on && lazy[k].has) kept_at.push(kept[k].sphere, k);  // (its FIFOs are not empty)
                         return;
                     }
                     if (role[k] != ref) {
@@ -848,7 +851,6 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                     if (may_lazy) {  // the spheres after it, lazily
                         lazy[k].has = e.next();
                         arm_lazy(k, x);
-                        if (!lazy[k].on && lazy[k].has) kept_at.push(e.sphere, k);
                         return;
                     }
                     advance(k);

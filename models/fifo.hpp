@@ -78,8 +78,10 @@ public:
     // The most entries it may hold without being full or passing its largest
     // occupancy so far (event-driven simulation: runs whose pushes and pops
     // are counted, not ordered, stay within it).
-    std::uint64_t quiet_limit() const {
-        return std::min<std::uint64_t>(stats_.max_occupancy, std::uint64_t(params_.depth) - 1);
+    std::uint64_t quiet_limit() const { return quiet_limit(stats_.max_occupancy, params_.depth); }
+    // The same for a FIFO of `depth` whose largest occupancy so far is `max_occupancy`.
+    static std::uint64_t quiet_limit(std::uint64_t max_occupancy, std::uint32_t depth) {
+        return std::min<std::uint64_t>(max_occupancy, std::uint64_t(depth) - 1);
     }
 
 private:
