@@ -51,12 +51,9 @@ __attribute__((always_inline)) inline V abs_v(V x) {
 // plane_misses_node over planes [first, first + count), four per AVX2
 // vector: the same operations in the same order, so the same answers.
 __attribute__((target("avx2"))) std::uint64_t planes_missed_avx2(const PlanesD& p, std::uint32_t first,
-                                                                  std::uint32_t count, const SphereTree::Node& nd,
-                                                                  const ArithBounds& b) {
-    const double u = std::max(b.rel, 0x1p-52);
+                                                                  std::uint32_t count, const SphereTree::Node& nd) {
     const __m256d cx = _mm256_set1_pd(nd.cx), cy = _mm256_set1_pd(nd.cy), cz = _mm256_set1_pd(nd.cz);
-    const __m256d r = _mm256_set1_pd(nd.r), cr = _mm256_set1_pd(nd.cnorm + nd.r);
-    const __m256d eight_u = _mm256_set1_pd(8 * u), ur = _mm256_set1_pd(u * nd.r), abs16 = _mm256_set1_pd(16 * b.abs);
+    const __m256d ex = _mm256_set1_pd(nd.ex), ey = _mm256_set1_pd(nd.ey), ez = _mm256_set1_pd(nd.ez);
     const __m256d sign = _mm256_set1_pd(-0.0);
     std::uint64_t miss = 0;
     for (std::uint32_t i = 0; i < count; i += 4) {
@@ -66,9 +63,10 @@ __attribute__((target("avx2"))) std::uint64_t planes_missed_avx2(const PlanesD& 
                                         _mm256_mul_pd(_mm256_loadu_pd(p.ny + k), cy)),
                           _mm256_mul_pd(_mm256_loadu_pd(p.nz + k), cz)),
             _mm256_loadu_pd(p.w + k));
-        const __m256d scale = _mm256_add_pd(_mm256_mul_pd(_mm256_loadu_pd(p.nnorm + k), cr), _mm256_loadu_pd(p.aw + k));
-        const __m256d slack = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(eight_u, scale), ur), abs16);
-        const __m256d limit = _mm256_add_pd(_mm256_mul_pd(_mm256_loadu_pd(p.a + k), r), slack);
+        const __m256d ext = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(_mm256_loadu_pd(p.ax + k), ex),
+                                                        _mm256_mul_pd(_mm256_loadu_pd(p.ay + k), ey)),
+                                          _mm256_mul_pd(_mm256_loadu_pd(p.az + k), ez));
+        const __m256d limit = _mm256_add_pd(ext, _mm256_loadu_pd(p.slack + k));
         const __m256d gt = _mm256_cmp_pd(_mm256_andnot_pd(sign, d), limit, _CMP_GT_OQ);
         miss |= std::uint64_t(_mm256_movemask_pd(gt)) << i;
     }
@@ -78,12 +76,9 @@ __attribute__((target("avx2"))) std::uint64_t planes_missed_avx2(const PlanesD& 
 // The same, eight planes per AVX-512 vector (|d| by _mm512_abs_pd, which
 // clears the sign bit as the AVX2 version's andnot does).
 __attribute__((target("avx512f"))) std::uint64_t planes_missed_avx512(const PlanesD& p, std::uint32_t first,
-                                                                      std::uint32_t count, const SphereTree::Node& nd,
-                                                                      const ArithBounds& b) {
-    const double u = std::max(b.rel, 0x1p-52);
+                                                                      std::uint32_t count, const SphereTree::Node& nd) {
     const __m512d cx = _mm512_set1_pd(nd.cx), cy = _mm512_set1_pd(nd.cy), cz = _mm512_set1_pd(nd.cz);
-    const __m512d r = _mm512_set1_pd(nd.r), cr = _mm512_set1_pd(nd.cnorm + nd.r);
-    const __m512d eight_u = _mm512_set1_pd(8 * u), ur = _mm512_set1_pd(u * nd.r), abs16 = _mm512_set1_pd(16 * b.abs);
+    const __m512d ex = _mm512_set1_pd(nd.ex), ey = _mm512_set1_pd(nd.ey), ez = _mm512_set1_pd(nd.ez);
     std::uint64_t miss = 0;
     for (std::uint32_t i = 0; i < count; i += 8) {
         const std::uint32_t k = first + i;  // PlanesD holds 8 spare entries past the last plane
@@ -92,30 +87,31 @@ __attribute__((target("avx512f"))) std::uint64_t planes_missed_avx512(const Plan
                                         _mm512_mul_pd(_mm512_loadu_pd(p.ny + k), cy)),
                           _mm512_mul_pd(_mm512_loadu_pd(p.nz + k), cz)),
             _mm512_loadu_pd(p.w + k));
-        const __m512d scale = _mm512_add_pd(_mm512_mul_pd(_mm512_loadu_pd(p.nnorm + k), cr), _mm512_loadu_pd(p.aw + k));
-        const __m512d slack = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(eight_u, scale), ur), abs16);
-        const __m512d limit = _mm512_add_pd(_mm512_mul_pd(_mm512_loadu_pd(p.a + k), r), slack);
+        const __m512d ext = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(_mm512_loadu_pd(p.ax + k), ex),
+                                                        _mm512_mul_pd(_mm512_loadu_pd(p.ay + k), ey)),
+                                          _mm512_mul_pd(_mm512_loadu_pd(p.az + k), ez));
+        const __m512d limit = _mm512_add_pd(ext, _mm512_loadu_pd(p.slack + k));
         miss |= std::uint64_t(_mm512_cmp_pd_mask(_mm512_abs_pd(d), limit, _CMP_GT_OQ)) << i;
     }
     return miss;
 }
 
 std::uint64_t planes_missed_scalar(const PlanesD& p, std::uint32_t first, std::uint32_t count,
-                                   const SphereTree::Node& nd, const ArithBounds& b) {
+                                   const SphereTree::Node& nd) {
     std::uint64_t m = 0;
-    for (std::uint32_t i = 0; i < count; ++i) m |= std::uint64_t(plane_misses_node(p, first + i, nd, b)) << i;
+    for (std::uint32_t i = 0; i < count; ++i) m |= std::uint64_t(plane_misses_node(p, first + i, nd)) << i;
     return m;
 }
 
 }  // namespace
 
 std::uint64_t planes_may_hit_node(const PlanesD& p, std::uint32_t first, std::uint32_t count,
-                                  const SphereTree::Node& nd, const ArithBounds& b) {
+                                  const SphereTree::Node& nd) {
     // Each version sets bit i when it proves plane first + i misses; the
     // vector ones may also set bits at and past `count` (lanes read past it).
-    const std::uint64_t missed = cpu_has_avx512() ? planes_missed_avx512(p, first, count, nd, b)
-                                 : cpu_has_avx2() ? planes_missed_avx2(p, first, count, nd, b)
-                                                  : planes_missed_scalar(p, first, count, nd, b);
+    const std::uint64_t missed = cpu_has_avx512() ? planes_missed_avx512(p, first, count, nd)
+                                 : cpu_has_avx2() ? planes_missed_avx2(p, first, count, nd)
+                                                  : planes_missed_scalar(p, first, count, nd);
     const std::uint64_t all = count >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << count) - 1;
     return ~missed & all;
 }

@@ -36,33 +36,52 @@ inline ArithBounds arith_bounds(const ArithSoft& a) {
 }
 
 // A binary tree over Sphere Memory: every node covers a contiguous index
-// range [lo, hi) and holds a sphere (in double) enclosing all its spheres.
-// Leaves hold at most kLeaf spheres. Nodes are in pre-order: a node's left
-// child follows it, `right` is the index of its right child.
+// range [lo, hi) and holds an axis-aligned box (in float, read in double)
+// enclosing all its spheres. Leaves hold at most kLeaf spheres. Nodes are in
+// pre-order: a node's left child follows it, `right` is the index of its
+// right child (0 for a leaf). A plane is much more often proven to miss a box
+// than the sphere around it: flat clusters (walls, table tops) have a thin
+// box but a wide sphere.
 class SphereTree {
 public:
     static constexpr std::uint32_t kLeaf = 8;
     // 32 bytes, two to a cache line: a group's walk reads thousands of them.
-    // The centre is rounded to float, the radius is measured from that float
-    // centre and rounded up, and |centre| is rounded up: the node still holds
-    // its spheres (the tests read it in double).
+    // The centre is rounded to float and the half extents are measured from
+    // that float centre and rounded up: every sphere (c, r) of the node has
+    // |c_i - centre_i| + r <= e_i on each axis.
     struct alignas(32) Node {
-        float cx, cy, cz, r;
-        float cnorm;  // >= |centre|
-        std::uint32_t lo, hi, right;
+        float cx, cy, cz;
+        float ex, ey, ez;
+        std::uint32_t lo;
+        std::uint32_t right;
     };
 
     SphereTree() = default;
-    explicit SphereTree(const std::vector<Sphere>& spheres) {
+    explicit SphereTree(const std::vector<Sphere>& spheres) : size_(static_cast<std::uint32_t>(spheres.size())) {
         if (spheres.empty()) return;
+        double m = 0;
+        for (const Sphere& s : spheres) {
+            const double x = s.c.x, y = s.c.y, z = s.c.z;
+            m = std::max(m, std::sqrt(x * x + y * y + z * z) + double(s.r));
+        }
+        bound_ = up_to_float(m * (1 + 0x1p-40));
         nodes_.reserve(2 * (spheres.size() / kLeaf + 1));
-        build(spheres, 0, static_cast<std::uint32_t>(spheres.size()));
+        build(spheres, 0, size_);
     }
     const std::vector<Node>& nodes() const { return nodes_; }
     bool empty() const { return nodes_.empty(); }
+    // End of a node's range: leaves start at multiples of kLeaf and are full
+    // but for the last one.
+    std::uint32_t hi(const Node& nd) const { return nd.right ? hi(nodes_[nd.right]) : std::min(nd.lo + kLeaf, size_); }
+    std::uint32_t leaf_end(const Node& leaf) const { return std::min(leaf.lo + kLeaf, size_); }
+    // At least |c| + r for every sphere (a bound on every magnitude the
+    // exact test meets, for its error bound).
+    double bound() const { return bound_; }
 
 private:
     std::vector<Node> nodes_;
+    std::uint32_t size_ = 0;
+    double bound_ = 0;
 
     // The least float at or above x (x >= 0, finite).
     static float up_to_float(double x) {
@@ -71,8 +90,6 @@ private:
     }
 
     std::uint32_t build(const std::vector<Sphere>& s, std::uint32_t lo, std::uint32_t hi) {
-        // Centre of the bounding box of the spheres, radius reaching the
-        // farthest sphere surface (computed in double, rounded up below).
         double mn[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, mx[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
         for (std::uint32_t i = lo; i < hi; ++i) {
             const double c[3] = {s[i].c.x, s[i].c.y, s[i].c.z};
@@ -86,15 +103,19 @@ private:
         n.cy = float(0.5 * (mn[1] + mx[1]));
         n.cz = float(0.5 * (mn[2] + mx[2]));
         const double cx = n.cx, cy = n.cy, cz = n.cz;  // (the float centre, exactly)
-        double r = 0;
+        double e[3] = {0, 0, 0};
         for (std::uint32_t i = lo; i < hi; ++i) {
-            const double dx = s[i].c.x - cx, dy = s[i].c.y - cy, dz = s[i].c.z - cz;
-            r = std::max(r, std::sqrt(dx * dx + dy * dy + dz * dz) + double(s[i].r));
+            const double r = s[i].r;
+            e[0] = std::max(e[0], std::fabs(s[i].c.x - cx) + r);
+            e[1] = std::max(e[1], std::fabs(s[i].c.y - cy) + r);
+            e[2] = std::max(e[2], std::fabs(s[i].c.z - cz) + r);
         }
-        n.r = up_to_float(r * (1 + 0x1p-40));  // cover the rounding of the distances above
-        n.cnorm = up_to_float(std::sqrt(cx * cx + cy * cy + cz * cz) * (1 + 0x1p-50));
+        // (each |c - centre| + r above is one subtraction and one addition in
+        // double: the margin covers their rounding)
+        n.ex = up_to_float(e[0] * (1 + 0x1p-40));
+        n.ey = up_to_float(e[1] * (1 + 0x1p-40));
+        n.ez = up_to_float(e[2] * (1 + 0x1p-40));
         n.lo = lo;
-        n.hi = hi;
         n.right = 0;
         const auto self = static_cast<std::uint32_t>(nodes_.size());
         nodes_.push_back(n);
@@ -114,30 +135,53 @@ private:
 namespace cull_detail {
 
 // A group's planes as the proof sees them (structure of arrays, so that
-// many are tested at once): their float32 records in double, |n| (rounded
-// up), and the parts of the error bound that depend only on the plane. Eight
-// spare entries past the 128th let a vector of eight read past the last plane.
+// many are tested at once): their float32 records in double, the weights of
+// the box's half extents, and the error bound, which depends only on the
+// plane (and the tree's bound). Eight spare entries past the 128th let a
+// vector of eight read past the last plane.
 struct PlanesD {
-    double nx[136], ny[136], nz[136], w[136], aw[136], nnorm[136], a[136];  // aw = |w|, a = max(|n|, 1)
+    double nx[136], ny[136], nz[136], w[136];
+    double ax[136], ay[136], az[136];  // |n_x| + max(0, 1 - |n|_1), |n_y|, |n_z|
+    double slack[136];
 };
 
-// True when no sphere of node `nd` can be hit by plane `k` in an arithmetic
-// with bounds `b`: the double distance from the node centre exceeds the
-// node radius by more than any rounding of the exact test could make up.
+// Plane k's entries of `p` from its record, for a tree of bound `m` and an
+// arithmetic of bounds `b`.
 //
-// For a sphere (c, r) inside the node (|c - C| + r <= R),
-// |n.c + w| - r >= |n.C + w| - max(|n|, 1) R.
+// For a sphere (c, r) in a node of centre C and half extents e
+// (|c_i - C_i| <= e_i - r), with S = |n_x| + |n_y| + |n_z|,
+// |n.c + w| >= |n.C + w| - sum |n_i| (e_i - r) = |n.C + w| - sum |n_i| e_i + S r,
+// so the exact test's |n.c + w| > r holds when
+// |n.C + w| > sum |n_i| e_i + max(0, 1 - S) e_x (r <= e_x).
 // The format's result d' differs from n.c + w by at most
 // 8 u (|n| |c| + |w|) + 8 abs (inputs rounded into the format, three
 // products, three sums: a (1+u)^6 bound, doubled for safety, plus flushing),
-// and its radius r' from r by at most u r + abs; |c| <= |C| + R, r <= R. The
-// distance computed here in double is itself within 4 * 2^-53 (|n||C|+|w|).
-inline bool plane_misses_node(const PlanesD& p, std::uint32_t k, const SphereTree::Node& nd, const ArithBounds& b) {
-    const double d = p.nx[k] * nd.cx + p.ny[k] * nd.cy + p.nz[k] * nd.cz + p.w[k];
+// and its radius r' from r by at most u r + abs; |n| <= S, |c|, r <= m. The
+// node test's own double arithmetic (the dot product, with |C_i| <= m, the
+// weighted extents, with e_i <= 2 m, and their sum: within 12 * 2^-53 of
+// S m + |w|) takes 8 u more.
+inline void set_plane(PlanesD& p, std::uint32_t k, const Plane& pl, double m, const ArithBounds& b) {
+    const double nx = pl.n.x, ny = pl.n.y, nz = pl.n.z;
+    p.nx[k] = nx;
+    p.ny[k] = ny;
+    p.nz[k] = nz;
+    p.w[k] = pl.w;
+    const double s1 = (std::fabs(nx) + std::fabs(ny) + std::fabs(nz)) * (1 + 0x1p-50);
+    p.ax[k] = std::fabs(nx) + std::max(0.0, 1 - s1 * (1 - 0x1p-49));
+    p.ay[k] = std::fabs(ny);
+    p.az[k] = std::fabs(nz);
     const double u = std::max(b.rel, 0x1p-52);
-    const double scale = p.nnorm[k] * (nd.cnorm + nd.r) + p.aw[k];
-    const double slack = 8 * u * scale + u * nd.r + 16 * b.abs;
-    return std::fabs(d) > p.a[k] * nd.r + slack;
+    p.slack[k] = (16 * u * (s1 * m + std::fabs(p.w[k])) + u * m + 16 * b.abs) * (1 + 0x1p-50);
+}
+
+// True when no sphere of node `nd` can be hit by plane `k` in the arithmetic
+// whose bound p.slack[k] holds: the double distance from the node centre
+// exceeds the box's extent along the plane's normal by more than any rounding
+// of the exact test could make up.
+inline bool plane_misses_node(const PlanesD& p, std::uint32_t k, const SphereTree::Node& nd) {
+    const double d = p.nx[k] * nd.cx + p.ny[k] * nd.cy + p.nz[k] * nd.cz + p.w[k];
+    const double ext = p.ax[k] * nd.ex + p.ay[k] * nd.ey + p.az[k] * nd.ez;
+    return std::fabs(d) > ext + p.slack[k];
 }
 
 // The same test for planes [first, first + count) at once (count <= 64): bit
@@ -145,8 +189,8 @@ inline bool plane_misses_node(const PlanesD& p, std::uint32_t k, const SphereTre
 // above does not prove a miss). src/core/cull.cpp: eight planes per AVX-512
 // vector or four per AVX2 vector where the machine has them, else plane by
 // plane.
-std::uint64_t planes_may_hit_node(const PlanesD& p, std::uint32_t first, std::uint32_t count, const SphereTree::Node& nd,
-                                  const ArithBounds& b);
+std::uint64_t planes_may_hit_node(const PlanesD& p, std::uint32_t first, std::uint32_t count,
+                                  const SphereTree::Node& nd);
 
 // A leaf's spheres: kLeaf consecutive entries of each array (a leaf with
 // fewer spheres is copied into LeafSpheres, padded with radius -1, which no
@@ -175,11 +219,10 @@ template <class A>
 inline bool culling_applies(const A& a, const SphereTree& tree, const Plane* planes, std::uint32_t np) {
     if (tree.empty()) return false;
     const ArithBounds b = arith_bounds(a);
-    const auto& root = tree.nodes().front();
-    double m = root.cnorm + root.r;
+    double m = tree.bound();
     for (std::uint32_t p = 0; p < np; ++p) {
         const double nn = std::fabs(planes[p].n.x) + std::fabs(planes[p].n.y) + std::fabs(planes[p].n.z);
-        m = std::max(m, std::max(nn * (root.cnorm + root.r), double(std::fabs(planes[p].w))));
+        m = std::max(m, std::max(nn * tree.bound(), double(std::fabs(planes[p].w))));
     }
     return std::isfinite(m) && 64 * m < b.max;
 }
@@ -203,16 +246,7 @@ inline void group_sphere_hits_culled(const A& a, const Plane* planes, const Plan
     if (pairless) pairless->clear();
     const ArithBounds b = arith_bounds(a);
     thread_local cull_detail::PlanesD pd;
-    for (std::uint32_t p = 0; p < 2 * n; ++p) {
-        const double nx = planes[p].n.x, ny = planes[p].n.y, nz = planes[p].n.z;
-        pd.nx[p] = nx;
-        pd.ny[p] = ny;
-        pd.nz[p] = nz;
-        pd.w[p] = planes[p].w;
-        pd.aw[p] = std::fabs(pd.w[p]);
-        pd.nnorm[p] = std::sqrt(nx * nx + ny * ny + nz * nz) * (1 + 0x1p-50);
-        pd.a[p] = std::max(pd.nnorm[p], 1.0);
-    }
+    for (std::uint32_t p = 0; p < 2 * n; ++p) cull_detail::set_plane(pd, p, planes[p], tree.bound(), b);
     const auto& nodes = tree.nodes();
     // Narrow a plane mask to the planes that may hit node nd: the planes
     // from its lowest to its highest bit in one vectorised test.
@@ -220,7 +254,7 @@ inline void group_sphere_hits_culled(const A& a, const Plane* planes, const Plan
         if (!mask) return mask;
         const auto first = static_cast<std::uint32_t>(__builtin_ctzll(mask));
         const auto count = static_cast<std::uint32_t>(64 - __builtin_clzll(mask)) - first;
-        return mask & (cull_detail::planes_may_hit_node(pd, base + first, count, nd, b) << first);
+        return mask & (cull_detail::planes_may_hit_node(pd, base + first, count, nd) << first);
     };
     // Depth-first, left before right: leaves come in sphere order.
     struct Item {
@@ -247,7 +281,7 @@ inline void group_sphere_hits_culled(const A& a, const Plane* planes, const Plan
         if constexpr (std::is_same_v<A, ArithF32> || std::is_same_v<A, ArithF64>) {
             if (n <= 32) {
                 using T = typename A::T;
-                const std::uint32_t count = nd.hi - nd.lo;
+                const std::uint32_t count = tree.leaf_end(nd) - nd.lo;
                 cull_detail::LeafView<T> view{s.cx.data() + nd.lo, s.cy.data() + nd.lo, s.cz.data() + nd.lo,
                                               s.r.data() + nd.lo};
                 cull_detail::LeafSpheres<T> padded;
@@ -265,15 +299,21 @@ inline void group_sphere_hits_culled(const A& a, const Plane* planes, const Plan
                 std::uint32_t rms[SphereTree::kLeaf], cms[SphereTree::kLeaf];
                 cull_detail::leaf_plane_masks(view, planes_a, std::uint32_t(rows), rms);
                 cull_detail::leaf_plane_masks(view, planes_a + n, std::uint32_t(cols), cms);
-                for (std::uint32_t k = 0; k < count; ++k) {
-                    const std::uint64_t rm = rms[k], cm = cms[k];
-                    if (rm && cm) out.push_back({nd.lo + k, rm, cm});
-                    else if (pairless && (rm | cm)) add_to_runs(*pairless, nd.lo + k);
+                // (a padded lane's masks are 0: no plane hits radius -1)
+                std::uint32_t both = 0, any = 0;
+                for (std::uint32_t k = 0; k < SphereTree::kLeaf; ++k) {
+                    both |= std::uint32_t(rms[k] != 0 && cms[k] != 0) << k;
+                    any |= std::uint32_t((rms[k] | cms[k]) != 0) << k;
                 }
+                for (std::uint32_t m = both; m; m &= m - 1) {
+                    const auto k = static_cast<std::uint32_t>(__builtin_ctz(m));
+                    out.push_back({nd.lo + k, rms[k], cms[k]});
+                }
+                if (pairless) add_bits_to_runs(*pairless, nd.lo, any & ~both);
                 continue;
             }
         }
-        for (std::uint32_t i = nd.lo; i < nd.hi; ++i) {
+        for (std::uint32_t i = nd.lo, hi = tree.leaf_end(nd); i < hi; ++i) {
             const SphereA<A> sp{s.cx[i], s.cy[i], s.cz[i], s.r[i]};
             std::uint64_t rm = 0;
             for (std::uint64_t m = rows; m; m &= m - 1) {

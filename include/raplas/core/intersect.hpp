@@ -345,6 +345,17 @@ inline void add_to_runs(std::vector<SphereRun>& runs, std::uint32_t i) {
     if (!runs.empty() && runs.back().end() == i) ++runs.back().count;
     else runs.push_back({i, 1});
 }
+// add_to_runs for each sphere base + k whose bit k of `bits` is set, a
+// stretch of set bits at a time.
+inline void add_bits_to_runs(std::vector<SphereRun>& runs, std::uint32_t base, std::uint32_t bits) {
+    while (bits) {
+        const auto k = static_cast<std::uint32_t>(__builtin_ctz(bits));
+        const auto len = static_cast<std::uint32_t>(__builtin_ctzll(~(std::uint64_t(bits) >> k)));
+        if (!runs.empty() && runs.back().end() == base + k) runs.back().count += len;
+        else runs.push_back({base + k, len});
+        bits = static_cast<std::uint32_t>(bits & ~(((std::uint64_t(1) << len) - 1) << k));
+    }
+}
 
 // Steps 5-6 decision for one ray group: every sphere whose row mask and
 // column mask are both non-empty, in sphere order. planes[0, n) are the row
