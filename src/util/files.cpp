@@ -27,14 +27,6 @@ std::string read_file(const std::string& path) {
     return ss.str();
 }
 
-std::uint64_t fnv1a64(std::string_view bytes, std::uint64_t h) {
-    for (unsigned char c : bytes) {
-        h ^= c;
-        h *= 0x100000001b3ull;
-    }
-    return h;
-}
-
 std::string hex64(std::uint64_t h) {
     char hex[17];
     std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));

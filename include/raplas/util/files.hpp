@@ -12,7 +12,14 @@ bool is_file(const std::string& path);  // a regular file (following links)
 // The whole file; InputError "PATH: cannot read: REASON".
 std::string read_file(const std::string& path);
 // FNV-1a, 64 bits, of some bytes / of a file's content; as 16 hex digits.
-std::uint64_t fnv1a64(std::string_view bytes, std::uint64_t h = 0xcbf29ce484222325ull);
+// (inline: the trace writer and the workload hash feed it a few bytes at a time)
+inline std::uint64_t fnv1a64(std::string_view bytes, std::uint64_t h = 0xcbf29ce484222325ull) {
+    for (unsigned char c : bytes) {
+        h ^= c;
+        h *= 0x100000001b3ull;
+    }
+    return h;
+}
 std::string hex64(std::uint64_t h);
 std::string file_hash(const std::string& path);
 std::string absolute_path(const std::string& path);  // absolute and normalised
