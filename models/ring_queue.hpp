@@ -34,10 +34,11 @@ private:
         for (std::size_t i = 0; i < count_; ++i) b[i] = (*this)[i];
         buf_.swap(b);
         head_ = 0;
-        mask_ = buf_.size() - 1;
+        mask_ = static_cast<std::uint32_t>(buf_.size() - 1);
     }
     std::vector<std::uint64_t> buf_;
-    std::size_t head_ = 0, count_ = 0, mask_ = 0;
+    // (32 bits: with the Fetcher's queue, an ICC's record fills one cache line)
+    std::uint32_t head_ = 0, count_ = 0, mask_ = 0;
 };
 
 }  // namespace raplas::model

@@ -191,9 +191,11 @@ private:
     // (FetcherQueue), in the current pass's cycles, with the pop cycles of the
     // triangles still in its Triangle FIFO. Kept from pass to pass when passes
     // overlap, moved to the next pass's cycles by shift_back.
-    struct EventBack : FetcherQueue {
+    // One cache line per ICC (a selection reads and writes both parts).
+    struct alignas(64) EventBack : FetcherQueue {
         RingQueue starts;
     };
+    static_assert(sizeof(EventBack) == 64, "an ICC's Fetcher record in one cache line");
     std::vector<EventBack> event_back_;
     BucketQueue kept_queue_, wait_queue_;  // event mode: ICCs by next kept sphere, by the triangle they wait for
     static void shift_back(EventBack& b, std::uint64_t by);
