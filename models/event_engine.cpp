@@ -509,6 +509,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
 
     // Triangle tri (of the head sphere) selected by ICC k in cycle c. Returns
     // true if ICC k coasts from the next triangle on.
+    const bool may_stick = cfg_.fault == Fault::stuck_rti;
     auto select = [&](std::uint32_t k, std::uint32_t tri, std::uint64_t c) {
         Icc& icc = *active[k];
         const PlaneIdEntry masks = TriangleSelector::take(tri, icc.planeid_fifo, icc.first_tri_fifo);
@@ -517,7 +518,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         Back& b = back[k];
         while (!b.starts.empty() && b.starts.front() <= c) b.starts.pop_front();  // popped by this cycle's Fetcher
         const std::uint64_t m = std::uint64_t(bit_count(masks.rows)) * std::uint64_t(bit_count(masks.cols));
-        if (icc.rti.stuck()) {  // fault injection: the Fetcher never pops this FIFO again
+        if (may_stick && icc.rti.stuck()) {  // fault injection: the Fetcher never pops this FIFO again
             b.starts.push_back(kNever);
             note_occupancy(tl, b.starts.size());
             if (b.starts.size() >= tri_depth) full_until.push_back({k, kNever});
@@ -526,7 +527,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         }
         const FetcherQueue::Slot slot = b.take(c, m, rti_pipes, rti_stages, rdf_empty);
         const std::uint64_t start = slot.pop;
-        icc.rti.account(m, 0, slot.busy);
+        if (m) icc.rti.account(m, 0, slot.busy);  // (a triangle with no pair: no test, no busy cycle)
         max_done = std::max(max_done, b.done);
         b.starts.push_back(start);
         note_occupancy(tl, b.starts.size());
@@ -536,7 +537,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         // The RTI's tests, all at once: the nearest hit does not depend on their
         // order. (Made when the group was loaded, unless the ICC answers at
         // selection: Icc::answer_at_load.)
-        if (computes && !icc.answered())
+        if (m && computes && !icc.answered())
             icc.rti.account(0,
                             icc.unit().rti_tests(masks.rows, masks.cols, tri, n,
                                                  [&](std::uint32_t ray, double t) { icc.min_distance(buf).update(ray, t, tri); }),
