@@ -69,6 +69,44 @@
 
 namespace raplas::model {
 
+namespace {
+
+// An ICC's records of the event mode (each described where run_pass_event
+// uses it: 4. coasts, the selections' tally, 5. the lazy Decoder, the
+// cursor over its kept spheres). A selection and the Decoder's hand-overs
+// read them together: one array of them, two cache lines per ICC, instead of
+// an array each.
+struct Coast {
+    std::uint32_t first = 0, pos = 0, stop = 0;
+    std::uint32_t next = 0;  // the triangle it selects next, in `waiting`
+    std::uint64_t pop0 = 0;  // the pop cycle of the triangle before `first`, which began the coast
+    bool on = false;
+};
+struct Tally {
+    std::uint32_t selected = 0, triangles = 0, empty = 0, max_occupancy = 0;
+};
+struct Lazy {
+    std::uint32_t end = 0;
+    bool on = false;
+    bool has = false;  // its cursor holds a sphere not pushed yet
+};
+struct alignas(64) Record {
+    Tally tally;
+    Lazy lazy;
+    Coast coast;
+    KeptSpheres kept;
+};
+static_assert(sizeof(Record) <= 128, "an ICC's record in two cache lines");
+
+// One field of every record, indexed by ICC.
+template <auto Field>
+struct Column {
+    Record* base;
+    auto& operator[](std::size_t k) const { return base[k].*Field; }
+};
+
+}  // namespace
+
 void Top::start_shared_side(std::uint32_t n) {
     ref_fifo_->clear();
     ref_psi_->start_group(2 * n, &no_hits_);
@@ -119,7 +157,12 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     // ICC's are read through a cursor over its two lists; `kept_at` finds the
     // ICCs by their next kept sphere.
     const bool keep_pairless = cfg_.icc.decoder.select == TriangleSelect::any;
-    std::vector<KeptSpheres> kept(na);
+    // ICC k's records (Record, at the top of this file), one array of them.
+    std::vector<Record> records(na);
+    const Column<&Record::kept> kept{records.data()};
+    const Column<&Record::coast> coast{records.data()};
+    const Column<&Record::tally> tally{records.data()};
+    const Column<&Record::lazy> lazy{records.data()};
     BucketQueue& kept_at = kept_queue_;
     kept_at.reset(sphere_memory.size(), na);
     for (std::uint32_t k = 0; k < na; ++k) {
@@ -199,23 +242,14 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     // and First-Triangle-ID FIFOs are popped when someone reads them
     // (catch_up): the Decoder, and the ICC's own sphere side while it is
     // individual.
-    struct Coast {
-        std::uint32_t first = 0, pos = 0, stop = 0;
-        std::uint32_t next = 0;  // the triangle it selects next, in `waiting`
-        std::uint64_t pop0 = 0;  // the pop cycle of the triangle before `first`, which began the coast
-        bool on = false;
-    };
-    std::vector<Coast> coast(na);
+    // (coast[k]: the Coast of ICC k's Record, at the top of this file)
     // What the selections add to the Triangle Selector's, Triangle FIFO's and
     // Fetcher's counters, per ICC, settled at the end of the pass (or when the
     // watchdog looks): one small record per selection instead of three
     // blocks' counters. Every selected triangle is pushed into the Triangle
     // FIFO, so `selected` counts its pushes too; `max_occupancy` starts at
     // the FIFO's.
-    struct Tally {
-        std::uint32_t selected = 0, triangles = 0, empty = 0, max_occupancy = 0;
-    };
-    std::vector<Tally> tally(na);
+    // (tally[k]: the Tally of ICC k's Record, at the top of this file)
     for (std::uint32_t k = 0; k < na; ++k)
         tally[k].max_occupancy = std::uint32_t(active[k]->triangle_fifo.stats().max_occupancy);
     auto settle_tallies = [&] {
@@ -274,12 +308,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     // to which it cannot queue more than keep its FIFOs from filling or
     // passing their largest occupancy so far. The order of these pushes and
     // the pops between them then changes no figure.
-    struct Lazy {
-        std::uint32_t end = 0;
-        bool on = false;
-        bool has = false;  // its cursor holds a sphere not pushed yet
-    };
-    std::vector<Lazy> lazy(na);
+    // (lazy[k]: the Lazy of ICC k's Record, at the top of this file)
     const bool may_lazy = any_full && cfg_.fault == Fault::none;
     // Pushes ICC k's lazy spheres below `upto` (decided by now).
     auto push_lazy = [&](std::uint32_t k, std::uint32_t upto) {
