@@ -546,7 +546,8 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         ++tl.selected;
         Back& b = back[k];
         while (!b.starts.empty() && b.starts.front() <= c) b.starts.pop_front();  // popped by this cycle's Fetcher
-        const std::uint64_t m = std::uint64_t(bit_count(masks.rows)) * std::uint64_t(bit_count(masks.cols));
+        const std::uint64_t m =
+            masks.rows && masks.cols ? std::uint64_t(bit_count(masks.rows)) * std::uint64_t(bit_count(masks.cols)) : 0;
         if (may_stick && icc.rti.stuck()) {  // fault injection: the Fetcher never pops this FIFO again
             b.starts.push_back(kNever);
             note_occupancy(tl, b.starts.size());

@@ -1,4 +1,4 @@
-// Sphere culling for the plane-sphere step: a tree of bounding spheres over
+// Sphere culling for the plane-sphere step: a tree of bounding boxes over
 // contiguous ranges of Sphere Memory lets a ray group skip, with a proof, the
 // spheres that none of its row planes (or none of its column planes) can hit
 // in the intersector's number format. The spheres that remain get the exact
