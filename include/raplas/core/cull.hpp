@@ -70,10 +70,10 @@ public:
     }
     const std::vector<Node>& nodes() const { return nodes_; }
     bool empty() const { return nodes_.empty(); }
-    // End of a node's range: leaves start at multiples of kLeaf and are full
-    // but for the last one.
-    std::uint32_t hi(const Node& nd) const { return nd.right ? hi(nodes_[nd.right]) : std::min(nd.lo + kLeaf, size_); }
+    // End of a leaf's range: leaves start at multiples of kLeaf and are full
+    // but for the last one. A node's range ends where its rightmost leaf's does.
     std::uint32_t leaf_end(const Node& leaf) const { return std::min(leaf.lo + kLeaf, size_); }
+    std::uint32_t hi(const Node& nd) const { return nd.right ? hi(nodes_[nd.right]) : leaf_end(nd); }
     // At least |c| + r for every sphere (a bound on every magnitude the
     // exact test meets, for its error bound).
     double bound() const { return bound_; }
