@@ -68,8 +68,8 @@ public:
     }
     void note_full(std::uint64_t cycles = 1) { stats_.full_cycles += cycles; }
     // Event-driven simulation keeps the contents elsewhere and records here:
-    // a push leaving `occupancy` entries.
-    void record_push(std::uint32_t occupancy, std::uint64_t n = 1) {
+    // `n` pushes, the largest occupancy they left being `occupancy`.
+    void record_push(std::uint32_t occupancy, std::uint64_t n) {
         stats_.pushes += n;
         if (occupancy > stats_.max_occupancy) stats_.max_occupancy = occupancy;
     }
