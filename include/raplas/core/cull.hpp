@@ -39,9 +39,10 @@ inline ArithBounds arith_bounds(const ArithSoft& a) {
 // range [lo, hi) and holds an axis-aligned box (in float, read in double)
 // enclosing all its spheres. Leaves hold at most kLeaf spheres. Nodes are in
 // pre-order: a node's left child follows it, `right` is the index of its
-// right child (0 for a leaf). A plane is much more often proven to miss a box
-// than the sphere around it: flat clusters (walls, table tops) have a thin
-// box but a wide sphere.
+// right child (0 for a leaf). A box is at least as tight as the sphere around
+// it, and its test is cheaper: the error bound depends only on the plane
+// (docs/PERFORMANCE.md, "Boxes in the culling tree": on the shipped scenes it
+// proves as many misses as the bounding spheres did).
 class SphereTree {
 public:
     static constexpr std::uint32_t kLeaf = 8;
