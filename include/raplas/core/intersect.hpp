@@ -340,10 +340,11 @@ inline std::vector<SphereRun>::const_iterator first_run_from(const std::vector<S
     return std::lower_bound(runs.begin(), runs.end(), s, [](const SphereRun& r, std::uint32_t x) { return r.end() <= x; });
 }
 
-// Appends sphere i (ascending) to a list of runs.
-inline void add_to_runs(std::vector<SphereRun>& runs, std::uint32_t i) {
-    if (!runs.empty() && runs.back().end() == i) ++runs.back().count;
-    else runs.push_back({i, 1});
+// Appends spheres [first, first + count) (ascending: past the last run's) to
+// a list of runs.
+inline void add_to_runs(std::vector<SphereRun>& runs, std::uint32_t first, std::uint32_t count = 1) {
+    if (!runs.empty() && runs.back().end() == first) runs.back().count += count;
+    else runs.push_back({first, count});
 }
 // add_to_runs for each sphere base + k whose bit k of `bits` is set, a
 // stretch of set bits at a time.
@@ -351,8 +352,7 @@ inline void add_bits_to_runs(std::vector<SphereRun>& runs, std::uint32_t base, s
     while (bits) {
         const auto k = static_cast<std::uint32_t>(__builtin_ctz(bits));
         const auto len = static_cast<std::uint32_t>(__builtin_ctzll(~(std::uint64_t(bits) >> k)));
-        if (!runs.empty() && runs.back().end() == base + k) runs.back().count += len;
-        else runs.push_back({base + k, len});
+        add_to_runs(runs, base + k, len);
         bits = static_cast<std::uint32_t>(bits & ~(((std::uint64_t(1) << len) - 1) << k));
     }
 }
