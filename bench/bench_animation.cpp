@@ -272,21 +272,14 @@ public:
     EmbreeMesh(const EmbreeDevice& dev, const Mesh& mesh, RTCBuildQuality quality) : dev_(dev) {
         auto t0 = clock_type::now();
         scene_ = rtcNewScene(dev.get());
-        geom_ = rtcNewGeometry(dev.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
+        geom_ = new_embree_mesh(dev.get(), mesh, &vertices_);
+        vertex_count_ = mesh.vertices.size();
         if (quality == RTC_BUILD_QUALITY_REFIT) {
             // Embree honours a geometry's build quality only in a scene of
             // quality LOW (a two-level structure, one BVH per geometry).
             rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_LOW);
             rtcSetGeometryBuildQuality(geom_, quality);
         }
-        vertices_ = static_cast<float*>(rtcSetNewGeometryBuffer(geom_, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                                4 * sizeof(float), mesh.vertices.size()));
-        vertex_count_ = mesh.vertices.size();
-        copy_vertices(mesh);
-        auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom_, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                  3 * sizeof(unsigned), mesh.triangles.size()));
-        for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
-            for (std::size_t k = 0; k < 3; ++k) ib[3 * i + k] = mesh.triangles[i][k];
         triangles_ = mesh.triangles;
         rtcCommitGeometry(geom_);
         rtcAttachGeometry(scene_, geom_);
@@ -313,7 +306,7 @@ public:
     // Returns the time of the three calls; `fill_s` gets the copy's.
     double update(const Mesh& m, double& fill_s) {
         auto t0 = clock_type::now();
-        copy_vertices(m);
+        fill_embree_vertices(vertices_, m);
         fill_s = since(t0);
         t0 = clock_type::now();
         rtcUpdateGeometryBuffer(geom_, RTC_BUFFER_TYPE_VERTEX, 0);
@@ -333,14 +326,6 @@ public:
     bool occluded(const Ray& r) const { return embree_occluded(scene_, r); }
 
 private:
-    void copy_vertices(const Mesh& m) {
-        for (std::size_t i = 0; i < m.vertices.size(); ++i) {
-            vertices_[4 * i + 0] = m.vertices[i].x;
-            vertices_[4 * i + 1] = m.vertices[i].y;
-            vertices_[4 * i + 2] = m.vertices[i].z;
-            vertices_[4 * i + 3] = 0.0f;
-        }
-    }
 
     const EmbreeDevice& dev_;
     RTCScene scene_ = nullptr;

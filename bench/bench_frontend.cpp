@@ -84,19 +84,7 @@ public:
         if (!device_) throw std::runtime_error("rtcNewDevice failed");
         const auto t0 = clock_type::now();
         scene_ = rtcNewScene(device_);
-        RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-        auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                               4 * sizeof(float), mesh.vertices.size()));
-        for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
-            vb[4 * i + 0] = mesh.vertices[i].x;
-            vb[4 * i + 1] = mesh.vertices[i].y;
-            vb[4 * i + 2] = mesh.vertices[i].z;
-            vb[4 * i + 3] = 0.0f;
-        }
-        auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                  3 * sizeof(unsigned), mesh.triangles.size()));
-        for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
-            for (std::size_t k = 0; k < 3; ++k) ib[3 * i + k] = mesh.triangles[i][k];
+        RTCGeometry geom = new_embree_mesh(device_, mesh);
         rtcCommitGeometry(geom);
         rtcAttachGeometry(scene_, geom);
         rtcReleaseGeometry(geom);

@@ -1,5 +1,6 @@
 // Embree 3 as the independent reference tracer (tests and benchmarks only):
-// one raplas Ray as an RTCRay, its nearest hit and its occlusion test.
+// a mesh as an Embree geometry; one raplas Ray as an RTCRay, its nearest hit
+// and its occlusion test.
 #pragma once
 
 #include <embree3/rtcore.h>
@@ -7,8 +8,36 @@
 #include <limits>
 
 #include "raplas/core/intersect.hpp"
+#include "raplas/scene/mesh.hpp"
 
 namespace raplas {
+
+// The mesh's vertices into an Embree vertex buffer of 16-byte stride (Embree
+// may read 16 bytes at the last vertex).
+inline void fill_embree_vertices(float* vb, const Mesh& mesh) {
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+        vb[4 * i + 0] = mesh.vertices[i].x;
+        vb[4 * i + 1] = mesh.vertices[i].y;
+        vb[4 * i + 2] = mesh.vertices[i].z;
+        vb[4 * i + 3] = 0.0f;
+    }
+}
+
+// A triangle geometry of the mesh, both buffers filled, triangles in mesh
+// order (primID = mesh triangle index); not committed. Its vertex buffer goes
+// to *vertices when asked for (to be refilled for a refit).
+inline RTCGeometry new_embree_mesh(RTCDevice device, const Mesh& mesh, float** vertices = nullptr) {
+    RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                           4 * sizeof(float), mesh.vertices.size()));
+    fill_embree_vertices(vb, mesh);
+    auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                              3 * sizeof(unsigned), mesh.triangles.size()));
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
+        for (std::size_t k = 0; k < 3; ++k) ib[3 * i + k] = mesh.triangles[i][k];
+    if (vertices) *vertices = vb;
+    return geom;
+}
 
 // The ray o + t d for t in (0, tfar].
 inline void set_embree_ray(RTCRay& ray, const Ray& r, float tfar) {
