@@ -14,6 +14,8 @@
 #include <system_error>
 #include <vector>
 
+#include "temp_dir.hpp"
+
 #ifndef RAPLAS_BINARY
 #error "RAPLAS_BINARY must name the raplas executable (tests/CMakeLists.txt)"
 #endif
@@ -57,13 +59,6 @@ inline std::vector<std::string> plus(std::vector<std::string> a, const std::vect
     return a;
 }
 
-// A new empty directory under the test temp dir (empty path on failure).
-inline fs::path make_temp_dir(const std::string& prefix) {
-    std::string tmpl = (fs::path(::testing::TempDir()) / (prefix + "_XXXXXX")).string();
-    if (!::mkdtemp(tmpl.data())) return {};
-    return tmpl;
-}
-
 // Runs `raplas ARGS...` in `where`, capturing stdout and stderr.
 inline RunResult run_raplas(const fs::path& where, const std::vector<std::string>& args) {
     std::string cmd = "cd " + quoted(where.string()) + " && " + quoted(RAPLAS_BINARY);
@@ -81,24 +76,14 @@ inline RunResult run_raplas(const fs::path& where, const std::vector<std::string
 
 // A test with its own temporary directory `dir`, removed afterwards, in which
 // run() starts raplas.
-class TempDirTest : public ::testing::Test {
+class TempDirTest : public TempDirFixture {
 protected:
-    fs::path dir;
+    TempDirTest() : TempDirFixture("raplas_test") {}
     void SetUp() override {
         ASSERT_TRUE(fs::exists(RAPLAS_BINARY)) << RAPLAS_BINARY;
-        dir = make_temp_dir("raplas_test");
-        ASSERT_FALSE(dir.empty());
-    }
-    void TearDown() override {
-        std::error_code ec;
-        fs::remove_all(dir, ec);
+        TempDirFixture::SetUp();
     }
     RunResult run(const std::vector<std::string>& args) const { return run_raplas(dir, args); }
-    std::string write(const std::string& name, const std::string& text) const {
-        const fs::path p = dir / name;
-        std::ofstream(p, std::ios::binary) << text;
-        return p.string();
-    }
 };
 
 }  // namespace raplas_test

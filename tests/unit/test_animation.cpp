@@ -64,22 +64,9 @@ const char* const kTwoObjects =
     "o tri\nf 1 2 3\n"
     "o other\nf 2 4 5\n";
 
-class AnimationTest : public ::testing::Test {
+class AnimationTest : public raplas_test::TempDirFixture {
 protected:
-    fs::path dir;
-    void SetUp() override {
-        dir = raplas_test::make_temp_dir("raplas_animation");
-        ASSERT_FALSE(dir.empty());
-    }
-    void TearDown() override {
-        std::error_code ec;
-        fs::remove_all(dir, ec);
-    }
-    std::string write(const std::string& name, const std::string& text) const {
-        const std::string p = (dir / name).string();
-        std::ofstream(p, std::ios::binary) << text;
-        return p;
-    }
+    AnimationTest() : TempDirFixture("raplas_animation") {}
     // The scene of a scene file with this text (in the test's directory).
     Scene load(const std::string& text, const std::vector<std::string>& overrides = {}) const {
         raplas::SceneRequest req;

@@ -24,6 +24,7 @@
 
 #include "raplas/app/cli.hpp"
 #include "run_in_child.hpp"
+#include "temp_dir.hpp"
 
 namespace {
 
@@ -67,16 +68,15 @@ bool line_matches(const std::string& want, const std::string& got) {
     return got.size() >= pos + last.size() && got.compare(got.size() - last.size(), last.size(), last) == 0;
 }
 
-class BadInputTable : public ::testing::Test {
+class BadInputTable : public raplas_test::TempDirFixture {
 protected:
-    fs::path tmp;
     std::string valid_trace, both_trace;  // the default (any-plane) trace and one for the row-and-column reading
 
+    BadInputTable() : TempDirFixture("raplas_bad_input") {}
     void SetUp() override {
-        std::string tmpl = (fs::path(::testing::TempDir()) / "raplas_bad_input_XXXXXX").string();
-        ASSERT_NE(::mkdtemp(tmpl.data()), nullptr);
-        tmp = tmpl;
-        const fs::path d = tmp / "trace";
+        TempDirFixture::SetUp();
+        if (HasFatalFailure()) return;
+        const fs::path d = dir / "trace";
         fs::create_directory(d);
         const Outcome r = run_in_child(d, {"trace", "-q", "-o", "valid.trace", "--set", "image.width=8", "--set",
                                            "image.height=8", "--set", "builtin_detail=0"}, {});
@@ -91,10 +91,6 @@ protected:
         const Outcome o = run_in_child(d, {"trace", "-q", "-o", "other.trace", "--set", "image.width=16", "--set",
                                            "image.height=8", "--set", "builtin_detail=0"}, {});
         ASSERT_EQ(o.code, 0) << o.err;
-    }
-    void TearDown() override {
-        std::error_code ec;
-        fs::remove_all(tmp, ec);
     }
 
     // A case's input file (see tests/bad_input.py for the kinds).
@@ -112,7 +108,7 @@ protected:
         if (auto shard = t["result"].value<std::string>()) {
             // simulate's --json on the valid trace (workload = "other": another
             // scene's): the whole run's, or shard I/N's partial result.
-            const fs::path d = tmp / "trace";
+            const fs::path d = dir / "trace";
             const std::string trace = t["workload"].value_or(std::string()) == "other" ? "other.trace" : "valid.trace";
             std::vector<std::string> args{"simulate", "-q", "--trace", (d / trace).string(), "--json", p.string()};
             if (*shard != "whole") args.insert(args.end(), {"--shard", *shard});
@@ -161,19 +157,19 @@ TEST_F(BadInputTable, EveryCaseGetsItsExitCodeAndWholeStderr) {
         const toml::table& c = *node.as_table();
         const std::string name = c["input"].value_or(std::string()) + ": " + c["what"].value_or(std::string());
         SCOPED_TRACE(name);
-        const fs::path dir = tmp / ("case" + std::to_string(i++));
-        fs::create_directory(dir);
+        const fs::path case_dir = dir / ("case" + std::to_string(i++));
+        fs::create_directory(case_dir);
         if (const toml::table* files = c["files"].as_table())
-            for (const auto& [fname, spec] : *files) make_file(dir / std::string(fname.str()), spec);
+            for (const auto& [fname, spec] : *files) make_file(case_dir / std::string(fname.str()), spec);
         std::set<std::string> before;
-        for (const auto& e : fs::directory_iterator(dir)) before.insert(e.path().filename().string());
+        for (const auto& e : fs::directory_iterator(case_dir)) before.insert(e.path().filename().string());
         std::vector<std::string> args;
         for (const auto& a : *c["args"].as_array()) args.push_back(a.value_or(std::string()));
         std::vector<std::pair<std::string, std::string>> env;
         if (const toml::table* e = c["env"].as_table())
             for (const auto& [k, v] : *e) env.emplace_back(std::string(k.str()), v.value_or(std::string()));
 
-        const Outcome r = run_in_child(dir, args, env);
+        const Outcome r = run_in_child(case_dir, args, env);
 
         const int want_code = int(c["exit"].value_or(std::int64_t(-1)));
         EXPECT_EQ(r.code, want_code) << "stderr: " << r.err;
@@ -191,7 +187,7 @@ TEST_F(BadInputTable, EveryCaseGetsItsExitCodeAndWholeStderr) {
         }();
         if (want_code != 0) {
             std::vector<std::string> left;
-            for (const auto& e : fs::directory_iterator(dir))
+            for (const auto& e : fs::directory_iterator(case_dir))
                 if (!before.count(e.path().filename().string())) left.push_back(e.path().filename().string());
             EXPECT_TRUE(left.empty()) << "a refused run left " << left.size() << " files, first " << left[0];
         }

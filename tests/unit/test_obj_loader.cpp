@@ -9,6 +9,7 @@
 
 #include "raplas/scene/mesh.hpp"
 #include "raplas/util/error.hpp"
+#include "temp_dir.hpp"
 #include "shared_scenes.hpp"
 
 namespace {
@@ -20,23 +21,9 @@ using raplas::Vec3f;
 using ::testing::AllOf;
 using ::testing::HasSubstr;
 
-class ObjLoader : public ::testing::Test {
+class ObjLoader : public raplas_test::TempDirFixture {
 protected:
-    fs::path dir;
-    void SetUp() override {
-        std::string tmpl = (fs::path(::testing::TempDir()) / "raplas_obj_XXXXXX").string();
-        ASSERT_NE(::mkdtemp(tmpl.data()), nullptr);
-        dir = tmpl;
-    }
-    void TearDown() override {
-        std::error_code ec;
-        fs::remove_all(dir, ec);
-    }
-    std::string write(const std::string& name, const std::string& text) {
-        const std::string p = (dir / name).string();
-        std::ofstream(p, std::ios::binary) << text;
-        return p;
-    }
+    ObjLoader() : TempDirFixture("raplas_obj") {}
     // Message of the InputError load_obj throws; fails the test if none.
     static std::string load_error(const std::string& path) {
         try {

@@ -15,6 +15,7 @@
 #include "raplas/util/error.hpp"
 #include "raplas/util/nearest.hpp"
 #include "raplas/util/params.hpp"
+#include "temp_dir.hpp"
 
 namespace {
 
@@ -26,23 +27,9 @@ using ::testing::AllOf;
 using ::testing::HasSubstr;
 using ::testing::Not;
 
-class ParamsTest : public ::testing::Test {
+class ParamsTest : public raplas_test::TempDirFixture {
 protected:
-    fs::path dir;
-    void SetUp() override {
-        std::string tmpl = (fs::path(::testing::TempDir()) / "raplas_params_XXXXXX").string();
-        ASSERT_NE(::mkdtemp(tmpl.data()), nullptr);
-        dir = tmpl;
-    }
-    void TearDown() override {
-        std::error_code ec;
-        fs::remove_all(dir, ec);
-    }
-    std::string write(const std::string& name, const std::string& text) {
-        const std::string p = (dir / name).string();
-        std::ofstream(p, std::ios::binary) << text;
-        return p;
-    }
+    ParamsTest() : TempDirFixture("raplas_params") {}
     static ParamSet make() {
         ParamSet p("test");
         p.add_int("count", 4, 1, 100, "an integer 1..100");

@@ -22,6 +22,7 @@
 #include "raplas/frontend/trace_io.hpp"
 #include "raplas/scene/scene.hpp"
 #include "raplas/util/error.hpp"
+#include "temp_dir.hpp"
 
 namespace {
 
@@ -566,18 +567,9 @@ TEST(TraceIo, InconsistentContentWithAValidChecksumIsRejected) {
     }
 }
 
-class TraceFiles : public ::testing::Test {
+class TraceFiles : public raplas_test::TempDirFixture {
 protected:
-    fs::path dir;
-    void SetUp() override {
-        std::string tmpl = (fs::path(::testing::TempDir()) / "raplas_trace_XXXXXX").string();
-        ASSERT_NE(::mkdtemp(tmpl.data()), nullptr);
-        dir = tmpl;
-    }
-    void TearDown() override {
-        std::error_code ec;
-        fs::remove_all(dir, ec);
-    }
+    TraceFiles() : TempDirFixture("raplas_trace") {}
 };
 
 TEST_F(TraceFiles, Version4FileReadsAndIsSizedAsItsVersion5Twin) {
