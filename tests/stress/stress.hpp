@@ -40,6 +40,13 @@ inline std::vector<std::string> formats_with_watertight() {
     return f;
 }
 
+// A test's name for a format parameter (gtest names take no '-').
+inline std::string param_name(const ::testing::TestParamInfo<std::string>& i) {
+    std::string s = i.param;
+    std::replace(s.begin(), s.end(), '-', '_');
+    return s;
+}
+
 inline double uni(Rng& rng, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
 inline Vec3d rvec(Rng& rng, double lo, double hi) { return {uni(rng, lo, hi), uni(rng, lo, hi), uni(rng, lo, hi)}; }
 inline Vec3d random_unit(Rng& rng) {

@@ -122,12 +122,6 @@ TEST_P(ClosedMeshes, WatertightEntersOnceThroughSharedEdgesAndVertices) {
     enter_closed_meshes(GetParam() + "-wt", "closed-mesh-wt", watertight_bounds());
 }
 
-std::string param_name(const ::testing::TestParamInfo<std::string>& i) {
-    std::string s = i.param;
-    std::replace(s.begin(), s.end(), '-', '_');
-    return s;
-}
-
 INSTANTIATE_TEST_SUITE_P(Formats, ClosedMeshes, ::testing::ValuesIn(formats()), param_name);
 
 }  // namespace

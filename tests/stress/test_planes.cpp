@@ -7,12 +7,6 @@
 namespace stress {
 namespace {
 
-std::string param_name(const ::testing::TestParamInfo<std::string>& i) {
-    std::string s = i.param;
-    std::replace(s.begin(), s.end(), '-', '_');
-    return s;
-}
-
 std::vector<std::string> psi_formats() {
     std::vector<std::string> f = formats();
     f.push_back("fp1-7-16-psiunnorm");

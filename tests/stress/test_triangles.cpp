@@ -6,12 +6,6 @@
 namespace stress {
 namespace {
 
-std::string param_name(const ::testing::TestParamInfo<std::string>& i) {
-    std::string s = i.param;
-    std::replace(s.begin(), s.end(), '-', '_');
-    return s;
-}
-
 // A random orthonormal frame: the triangle's plane is (e0, e1), normal e2.
 struct Frame3 {
     Vec3d e0, e1, e2;
