@@ -17,6 +17,7 @@
 #include <typeinfo>
 
 #include "raplas/util/error.hpp"
+#include "raplas/util/params.hpp"
 
 namespace raplas::fuzz {
 
@@ -51,6 +52,18 @@ bool guarded(const char* target, F&& f) {
 
 inline std::string as_string(const unsigned char* data, std::size_t size) {
     return std::string(reinterpret_cast<const char*>(data), size);
+}
+
+// ParamSet::dump() is documented to print TOML that is valid input again:
+// `fresh` (the same kind of set, as built) loads p's dump and dumps the same.
+inline void check_dump(const char* target, const ParamSet& p, ParamSet fresh) {
+    const std::string first = p.dump();
+    try {
+        fresh.load_text(first, "dump");
+    } catch (const InputError& e) {
+        fail(target, std::string("dump() is not valid input: ") + e.what() + "\n" + first);
+    }
+    if (fresh.dump() != first) fail(target, "dump() does not read back to the same values:\n" + first);
 }
 
 }  // namespace raplas::fuzz

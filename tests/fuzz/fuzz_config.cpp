@@ -14,24 +14,13 @@ namespace {
 
 const char* const kTarget = "fuzz_config";
 
-void check_dump(const raplas::ParamSet& p) {
-    const std::string first = p.dump();
-    raplas::ParamSet q = raplas::model::machine_params();
-    try {
-        q.load_text(first, "dump");
-    } catch (const raplas::InputError& e) {
-        raplas::fuzz::fail(kTarget, std::string("dump() is not valid input: ") + e.what() + "\n" + first);
-    }
-    if (q.dump() != first) raplas::fuzz::fail(kTarget, "dump() does not read back to the same values:\n" + first);
-}
-
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const unsigned char* data, std::size_t size) {
     const std::string text = raplas::fuzz::as_string(data, size);
     raplas::ParamSet p = raplas::model::machine_params();
     if (!raplas::fuzz::guarded(kTarget, [&] { p.load_text(text, "fuzz.toml"); })) return 0;
-    check_dump(p);
+    raplas::fuzz::check_dump(kTarget, p, raplas::model::machine_params());
     raplas::fuzz::guarded(kTarget, [&] {
         const raplas::model::SimConfig c = raplas::model::config_from_params(p);
         if (c.iccs < 1 || c.icc.sphere_fifo.depth < 1 || c.icc.triangle_fifo.depth < 1 || c.sync_cycles < 1 ||

@@ -35,17 +35,6 @@ void check_scene(const raplas::Scene& s) {
         fail(kTarget, "non-finite scene value");
 }
 
-// dump() is documented to print TOML that is valid input again.
-void check_dump(const raplas::ParamSet& p) {
-    const std::string first = p.dump();
-    raplas::ParamSet q = raplas::scene_params();
-    try {
-        q.load_text(first, "dump");
-    } catch (const raplas::InputError& e) {
-        raplas::fuzz::fail(kTarget, std::string("dump() is not valid input: ") + e.what() + "\n" + first);
-    }
-    if (q.dump() != first) raplas::fuzz::fail(kTarget, "dump() does not read back to the same values:\n" + first);
-}
 
 }  // namespace
 
@@ -55,7 +44,7 @@ extern "C" int LLVMFuzzerTestOneInput(const unsigned char* data, std::size_t siz
     if (!raplas::fuzz::guarded(kTarget, [&] { p.load_text(text, "fuzz.toml"); })) return 0;
     p.set("mesh=\"\"");
     p.set("animation.mesh_sequence=\"\"");
-    check_dump(p);
+    raplas::fuzz::check_dump(kTarget, p, raplas::scene_params());
     raplas::fuzz::guarded(kTarget, [&] { check_scene(raplas::scene_from_params(p, "")); });
     return 0;
 }
