@@ -225,4 +225,42 @@ SimConfig config_from_params(const ParamSet& p) {
     return c;
 }
 
+const WorkloadKey kWorkloadKeys[3] = {
+    {"workload.group_size", "groups.size", "primary ray group size"},
+    {"workload.shadow_group_size", "groups.shadow_size", "shadow ray group size"},
+    {"workload.triangles_per_sphere", "spheres.triangles_per_sphere", "triangles per sphere"},
+};
+
+std::string inert_config_key(const ParamSet& p, const std::string& key) {
+    const std::string estimate = p.get_string("sim.estimate"), system = p.get_string("memory.system");
+    if ((key == "sim.sample_fraction" || key == "sim.sample_seed") && estimate != "sample_passes")
+        return "applies only with sim.estimate = sample_passes (here " + estimate + ")";
+    if (key == "sim.fault_icc" && p.get_string("sim.fault") == "none")
+        return "names the ICC of sim.fault, and sim.fault = none";
+    if ((key == "memory.pe" || key == "memory.fetch_records_per_cycle") && system == "streaming")
+        return "applies only to the baseline memory systems (memory.system = shared or distributed; here streaming)";
+    if (key == "memory.shared_spheres" && system != "shared")
+        return "applies only with memory.system = shared (here " + system + ")";
+    if (key == "memory.distributed_fetch" && system != "distributed")
+        return "applies only with memory.system = distributed (here " + system + ")";
+    return "";
+}
+
+std::string inert_scene_key(const ParamSet& p, const std::string& key) {
+    for (const WorkloadKey& w : kWorkloadKeys)
+        if (key == w.scene_key && p.get_int(w.config_key) != 0)
+            return std::string("the machine config's ") + w.config_key + " = " + std::to_string(p.get_int(w.config_key)) +
+                   " decides the " + w.what + " (set " + w.config_key + " instead, or " + w.config_key +
+                   " = 0 to take the scene's " + w.scene_key + ")";
+    return "";
+}
+
+void resolve_workload(ParamSet& p, std::uint32_t group_size, std::uint32_t shadow_group_size,
+                      std::uint32_t triangles_per_sphere) {
+    const std::uint32_t v[3] = {group_size, shadow_group_size, triangles_per_sphere};
+    for (int i = 0; i < 3; ++i)
+        if (p.get_int(kWorkloadKeys[i].config_key) == 0 && v[i] != 0)
+            p.set(std::string(kWorkloadKeys[i].config_key) + "=" + std::to_string(v[i]), "the workload");
+}
+
 }  // namespace raplas::model

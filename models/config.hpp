@@ -66,6 +66,29 @@ NumFormat numerics_from_params(const ParamSet& p);
 // every suffix, the other two agreeing with it), so that --dump-config prints
 // a config that loads again to the same format.
 void resolve_numerics(ParamSet& p);
+// Why config key `key` changes nothing in the machine `p` describes (a key
+// that applies only under another setting: sim.sample_fraction without
+// sim.estimate = sample_passes, memory.pe on the streaming machine, ...),
+// as a phrase for "--set KEY: ..."; "" when it applies. A key set or varied
+// by the user that applies to no point is refused (docs/BAD_INPUT.md, "Rules").
+std::string inert_config_key(const ParamSet& p, const std::string& key);
+// The same for scene key `key`: "" unless a workload key of `p` overrides
+// it (workload.group_size, not 0, decides groups.size).
+std::string inert_scene_key(const ParamSet& p, const std::string& key);
+// The workload keys of `p` (workload.group_size, workload.shadow_group_size,
+// workload.triangles_per_sphere) that are 0, "follow the scene or trace",
+// set to the values the workload has: what a result reports.
+void resolve_workload(ParamSet& p, std::uint32_t group_size, std::uint32_t shadow_group_size,
+                      std::uint32_t triangles_per_sphere);
+// The scene key each workload key overrides (groups.size for
+// workload.group_size, ...).
+struct WorkloadKey {
+    const char* config_key;
+    const char* scene_key;
+    const char* what;  // "primary ray group size N"
+};
+extern const WorkloadKey kWorkloadKeys[3];
+
 // memory.* keys (models/baseline_memory.cpp); the area.* keys are add_area_params (models/area.hpp).
 void add_memory_system_params(ParamSet& p);
 void memory_system_from_params(const ParamSet& p, SimConfig& c);

@@ -18,7 +18,7 @@ import subprocess
 import sys
 import tempfile
 
-from testlib import finish, small_scenes
+from testlib import finish, small_scenes, FOLLOW_WORKLOAD
 
 raplas, root = sys.argv[1], os.path.abspath(sys.argv[2])
 # configurations per scene: 4; the sanitizer build passes fewer (tests/CMakeLists.txt)
@@ -38,7 +38,7 @@ def check(ok, what):
 
 def run(tmp, trace, args):
     path = os.path.join(tmp, "out.json")
-    subprocess.run([raplas, "simulate", "--trace", trace, "--config", "paper", "--json", path, "-q"] + args, check=True)
+    subprocess.run([raplas, "simulate", "--trace", trace, "--config", "paper", *FOLLOW_WORKLOAD, "--json", path, "-q"] + args, check=True)
     return json.load(open(path))
 
 
@@ -95,7 +95,7 @@ with tempfile.TemporaryDirectory() as tmp:
     # The CSV row says which kind of figure total_cycles is.
     csv_path = os.path.join(tmp, "out.csv")
     for est in ("exact", "sample_passes", "fifo_bound"):
-        subprocess.run([raplas, "simulate", "--trace", os.path.join(tmp, "builtin.trace"), "--config", "paper", "-q",
+        subprocess.run([raplas, "simulate", "--trace", os.path.join(tmp, "builtin.trace"), "--config", "paper", *FOLLOW_WORKLOAD, "-q",
                         "--set", f"sim.estimate={est}", "--csv", csv_path], check=True)
         header, row = open(csv_path).read().splitlines()
         cells = dict(zip(header.split(","), row.split(",")))

@@ -15,7 +15,7 @@ import subprocess
 import sys
 import tempfile
 
-from testlib import PROVENANCE, finish, json_diff, provenance_diff, report, small_scenes
+from testlib import PROVENANCE, finish, json_diff, provenance_diff, report, small_scenes, FOLLOW_WORKLOAD
 
 raplas, root = sys.argv[1], os.path.abspath(sys.argv[2])
 # configurations per scene: 10; the sanitizer build passes fewer (tests/CMakeLists.txt)
@@ -35,7 +35,7 @@ with tempfile.TemporaryDirectory() as tmp:
 
         def simulate(trace_file, mode, cfg):
             path = os.path.join(tmp, mode + ".json")
-            subprocess.run([raplas, "simulate", "--trace", trace_file, "--config", "paper", "--set", f"sim.mode={mode}",
+            subprocess.run([raplas, "simulate", "--trace", trace_file, "--config", "paper", *FOLLOW_WORKLOAD, "--set", f"sim.mode={mode}",
                             "--json", path, "-q"] + cfg, check=True)
             return json.load(open(path))
 

@@ -10,10 +10,10 @@ import subprocess
 import sys
 import tempfile
 
-from testlib import PROVENANCE, provenance_diff
+from testlib import PROVENANCE, provenance_diff, FOLLOW_WORKLOAD
 
 raplas = sys.argv[1]
-base = ["simulate", "--config", "paper", "--iccs", "4", "--fifo", "10",
+base = ["simulate", "--config", "paper", *FOLLOW_WORKLOAD, "--iccs", "4", "--fifo", "10",
         "--set", "image.width=40", "--set", "image.height=32", "--set", "groups.shadow_size=4", "-q"]
 
 

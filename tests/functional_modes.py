@@ -14,7 +14,7 @@ import subprocess
 import sys
 import tempfile
 
-from testlib import PROVENANCE, finish, json_diff, provenance_diff, report, small_scenes
+from testlib import PROVENANCE, finish, json_diff, provenance_diff, report, small_scenes, FOLLOW_WORKLOAD
 
 raplas, root = sys.argv[1], os.path.abspath(sys.argv[2])
 points_per_trace = int(sys.argv[3]) if len(sys.argv) > 3 else 3
@@ -45,7 +45,7 @@ with tempfile.TemporaryDirectory() as tmp:
                 out = {}
                 for mode in ("compute", "trace"):
                     path = os.path.join(tmp, mode + ".json")
-                    subprocess.run([raplas, "simulate", "--trace", trace, "--config", "paper", "--set",
+                    subprocess.run([raplas, "simulate", "--trace", trace, "--config", "paper", *FOLLOW_WORKLOAD, "--set",
                                     f"sim.functional={mode}", "--json", path, "-q"] + cfg, check=True)
                     out[mode] = json.load(open(path))
                 c, t = out["compute"], out["trace"]

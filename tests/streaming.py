@@ -18,7 +18,7 @@ import subprocess
 import sys
 import tempfile
 
-from testlib import finish, json_diff, small_scenes
+from testlib import finish, json_diff, small_scenes, FOLLOW_WORKLOAD
 
 raplas, root = sys.argv[1], os.path.abspath(sys.argv[2])
 points_per_scene = int(sys.argv[3]) if len(sys.argv) > 3 else 6
@@ -58,7 +58,7 @@ with tempfile.TemporaryDirectory() as tmp:
         for i in range(points_per_scene):
             sets, extra = VARIANTS[(i + len(name)) % len(VARIANTS)] if i < len(VARIANTS) else rng.choice(VARIANTS)
             iccs = rng.choice([2, 3, 5, 16]) if "sim.fault_icc=1" in sets else rng.choice([1, 2, 3, 5, 16])
-            args = scene_args + ["--config", "paper", "--iccs", str(iccs), "--fifo", str(rng.choice([1, 3, 10, 1000]))]
+            args = scene_args + ["--config", "paper", *FOLLOW_WORKLOAD, "--iccs", str(iccs), "--fifo", str(rng.choice([1, 3, 10, 1000]))]
             for s in sets:
                 args += ["--set", s]
             args += extra
@@ -90,7 +90,7 @@ with tempfile.TemporaryDirectory() as tmp:
         data = open(trace, "rb").read()
         for sets in (["sim.mode=event"], ["sim.mode=cycle", "sim.functional=trace", "icc.triangle_select=both"],
                      ["sim.estimate=fifo_bound"]):
-            args = ["--trace", trace, "--config", "paper", "--iccs", str(rng.choice([1, 3, 16])), "--fifo",
+            args = ["--trace", trace, "--config", "paper", *FOLLOW_WORKLOAD, "--iccs", str(rng.choice([1, 3, 16])), "--fifo",
                     str(rng.choice([3, 1000]))]
             for x in sets:
                 args += ["--set", x]

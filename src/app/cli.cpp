@@ -5,6 +5,7 @@
 #include "front_end_thread.hpp"
 #include "config.hpp"
 #include "memory_checks.hpp"
+#include "run_inputs.hpp"
 #include "shard.hpp"
 
 #include <unistd.h>
@@ -21,6 +22,7 @@
 #include <functional>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "raplas/app/image_io.hpp"
 #include "raplas/app/progress.hpp"
@@ -32,6 +34,7 @@
 #include "raplas/util/error.hpp"
 #include "raplas/util/files.hpp"
 #include "raplas/util/memory_budget.hpp"
+#include "raplas/util/run_files.hpp"
 
 #ifndef RAPLAS_VERSION
 #define RAPLAS_VERSION "unknown"
@@ -95,6 +98,30 @@ int cmd_render(const SceneOptions& so_in, std::string out_png, bool out_given, c
     if (!gif.empty() && !so.animate) throw UsageError("--gif writes the frames of --frames as one animated GIF: give --frames");
     if (!gif.empty() && (gif.size() < 4 || gif.substr(gif.size() - 4) != ".gif"))
         throw UsageError("--gif " + gif + ": the name must end in .gif");
+    // What the run reads and writes, checked before any work.
+    RunFiles files;
+    add_scene_inputs(files, so);
+    std::optional<FrameRange> range;
+    if (so.animate) {
+        range = parse_frames(frames, frame_count(scene), scene.name);
+        if (!out_given) out_png = "frame_%04d.png";
+        check_frame_pattern(out_png, "--out");
+        if (!heatmap.empty()) check_frame_pattern(heatmap, "--heatmap");
+        if (!hits.empty()) check_frame_pattern(hits, "--hits");
+        for (const auto& [option, pattern] : {std::pair<const char*, std::string>{"--out", out_png},
+                                              {"--heatmap", heatmap}, {"--hits", hits}}) {
+            if (pattern.empty()) continue;
+            check_frame_leftovers(pattern, option, *range);
+            for (int f = range->first; f <= range->last; ++f) files.output(option, frame_file(pattern, f));
+        }
+        files.output("--gif", gif);
+    } else {
+        files.output("--out", out_png);
+        files.output("--heatmap", heatmap);
+        files.output("--hits", hits);
+    }
+    files.output("--json", json);
+    files.check();
     if (!out_png.empty() || !heatmap.empty() || !gif.empty()) load_image_module();
     if (!so.animate) {
         PhaseProgress progress(so.show_progress(), ::isatty(2));
@@ -104,26 +131,21 @@ int cmd_render(const SceneOptions& so_in, std::string out_png, bool out_given, c
         return 0;
     }
     // --frames: one image (and heat map, hits) per frame, named by a pattern.
-    const FrameRange range = parse_frames(frames, frame_count(scene), scene.name);
-    if (!out_given) out_png = "frame_%04d.png";
-    check_frame_pattern(out_png, "--out");
-    if (!heatmap.empty()) check_frame_pattern(heatmap, "--heatmap");
-    if (!hits.empty()) check_frame_pattern(hits, "--hits");
     ProgressLine progress(so.show_progress(), ::isatty(2));
     nlohmann::json all = {{"scene", scene.name},
                           {"animation", {{"frames", frame_count(scene)}, {"fps", scene.animation ? scene.animation->fps : 0.0}}},
                           {"frames", nlohmann::json::array()}};
-    const std::size_t n = std::size_t(range.count());
+    const std::size_t n = std::size_t(range->count());
     SphereCache spheres;  // static geometry: the spheres are built once (bit for bit the same)
     std::unique_ptr<AnimationWriter> animation;
     if (!gif.empty())
         animation = std::make_unique<AnimationWriter>(gif, scene.width, scene.height,
                                                       scene.animation ? scene.animation->fps : 24.0);
-    for (int f = range.first; f <= range.last; ++f) {
-        progress.draw(std::size_t(f - range.first), n, "frames", "", std::size_t(f - range.first), n);
+    for (int f = range->first; f <= range->last; ++f) {
+        progress.draw(std::size_t(f - range->first), n, "frames", "", std::size_t(f - range->first), n);
         const Scene at = scene_at_frame(scene, f);
         if (!so.quiet) std::cout << "frame " << f << ": ";
-        nlohmann::json j = render_one(at, so, f == range.first ? load_s : 0.0, frame_file(out_png, f),
+        nlohmann::json j = render_one(at, so, f == range->first ? load_s : 0.0, frame_file(out_png, f),
                                       heatmap.empty() ? "" : frame_file(heatmap, f), hits.empty() ? "" : frame_file(hits, f),
                                       !json.empty(), nullptr, &spheres, animation.get());
         if (json.empty()) continue;
@@ -191,6 +213,11 @@ int cmd_trace(const SceneOptions& so, const std::string& out, const std::string&
     Scene scene;
     RenderReport rep;
     if (!so.load(scene, rep.load_s)) return 0;
+    RunFiles files;
+    add_scene_inputs(files, so);
+    files.output("--out", out);
+    files.output("--json", json);
+    files.check();
     FrameOptions fo;
     fo.format = fmt;
     fo.threads = so.threads;

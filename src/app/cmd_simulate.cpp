@@ -17,6 +17,7 @@
 #include "memory_checks.hpp"
 #include "raplas/app/progress.hpp"
 #include "raplas/app/sim_report.hpp"
+#include "run_inputs.hpp"
 #include "shard.hpp"
 #include "raplas/frontend/group_source.hpp"
 #include "raplas/frontend/trace_io.hpp"
@@ -25,6 +26,7 @@
 #include "raplas/util/data_dir.hpp"
 #include "raplas/util/error.hpp"
 #include "raplas/util/files.hpp"
+#include "raplas/util/run_files.hpp"
 
 namespace raplas {
 
@@ -51,6 +53,9 @@ void add_simulate_options(CLI::App* cmd, SimulateArgs& a) {
                     "write the commands of a sharded run to FILE.traces (the trace, for a scene), FILE (one per shard) "
                     "and FILE.merge, for GNU parallel or a Slurm array, instead of simulating");
     cmd->add_option("--work-dir", a.work_dir, "with --emit-jobs: the trace and the shards' results (default: OUT.d)");
+    cmd->add_flag("--fresh", a.fresh,
+                  "with --emit-jobs: when the work dir holds results made from other inputs (scene, meshes, config, "
+                  "--set keys, trace, or another build of raplas), remove them instead of refusing");
     cmd->add_option("--window", a.window,
                     "passes of ray groups the front end may trace ahead of the model (the groups in memory at once: "
                     "this many times the ICC count; docs/MEMORY.md)")
@@ -84,6 +89,44 @@ void add_simulate_options(CLI::App* cmd, SimulateArgs& a) {
                     "one key ends in it: --set rti_pipes=2 (repeatable)");
 }
 
+void check_keys_apply(const ParamSet& mp, const std::vector<std::string>& config_keys,
+                      const std::vector<std::string>& scene_sets, const std::string& trace) {
+    for (const auto& k : config_keys)
+        if (const std::string why = model::inert_config_key(mp, k); !why.empty())
+            throw InputError("--set " + k + ": " + why + ", so it would change nothing");
+    for (const auto& s : scene_sets) {
+        const std::string k = s.substr(0, s.find('='));
+        if (!trace.empty()) {
+            // What the trace fixes: its header (read up to its HEAD block) says the value.
+            const Trace h = TraceReader(trace).header();
+            const std::pair<const char*, std::uint32_t> fixed[] = {
+                {"image.width", h.width},  {"image.height", h.height}, {"groups.size", h.group_size},
+                {"groups.shadow_size", h.shadow_group_size}, {"spheres.triangles_per_sphere", h.tris_per_sphere}};
+            std::string there = "its scene '" + h.scene_name + "', " + std::to_string(h.width) + "x" +
+                                std::to_string(h.height);
+            for (const auto& [key, v] : fixed)
+                if (k == key) there = k + " = " + std::to_string(v);
+            throw InputError("--set " + s + ": a scene key, but the trace " + trace + " was made already (" + there +
+                             " there); make a trace with it (raplas trace ... --set " + s + ") and simulate that");
+        }
+        if (const std::string why = model::inert_scene_key(mp, k); !why.empty())
+            throw InputError("--set " + k + ": " + why + ", so it would change nothing");
+    }
+}
+
+void check_trace_workload(const Trace& t, const ParamSet& mp, const std::string& name) {
+    const std::uint32_t has[3] = {t.group_size, t.shadow_group_size, t.tris_per_sphere};
+    for (int i = 0; i < 3; ++i) {
+        const model::WorkloadKey& w = model::kWorkloadKeys[i];
+        const auto want = std::uint32_t(mp.get_int(w.config_key));
+        if (want == 0 || want == has[i]) continue;
+        throw InputError(name + ": made with " + w.scene_key + " = " + std::to_string(has[i]) + ", but " +
+                         mp.origin(w.config_key) + " gives " + w.config_key + " = " + std::to_string(want) +
+                         "; simulate a trace made with " + w.scene_key + " = " + std::to_string(want) + ", or set " +
+                         w.config_key + "=0 to follow the trace");
+    }
+}
+
 int cmd_simulate(const SimulateArgs& a) {
     using clock = std::chrono::steady_clock;
     ParamSet mp = model::machine_params();
@@ -98,10 +141,15 @@ int cmd_simulate(const SimulateArgs& a) {
     const ParamSet sp = scene_params();
     std::vector<std::string> config_args;  // the machine config's options, for shard processes (--jobs)
     if (!a.config.empty()) config_args.insert(config_args.end(), {"--config", a.config});
+    std::vector<std::string> config_keys;  // the config keys and scene keys given with --set
     for (const auto& s : a.config_sets) {
         const auto [set, assignment] = route_assignment(s, {&mp, &sp});
-        if (set == 0) mp.set(assignment), config_args.insert(config_args.end(), {"--set", assignment});
-        else so.sets.push_back(assignment);
+        if (set == 0) {
+            mp.set(assignment), config_args.insert(config_args.end(), {"--set", assignment});
+            config_keys.push_back(assignment.substr(0, assignment.find('=')));
+        } else {
+            so.sets.push_back(assignment);
+        }
     }
     if (a.iccs) config_args.insert(config_args.end(), {"--iccs", std::to_string(a.iccs)});
     if (a.fifo) config_args.insert(config_args.end(), {"--fifo", std::to_string(a.fifo)});
@@ -117,6 +165,20 @@ int cmd_simulate(const SimulateArgs& a) {
         return 0;
     }
     const model::SimConfig cfg = model::config_from_params(mp);
+    // A key given that cannot change the run is refused (docs/BAD_INPUT.md, "Rules").
+    check_keys_apply(mp, config_keys, so.sets, a.trace);
+    {  // What the run reads and writes, checked before any work.
+        RunFiles files;
+        if (a.trace.empty()) add_scene_inputs(files, so);
+        files.input("--trace", a.trace);
+        if (!a.config.empty()) files.input("--config", resolve_config(a.config));
+        files.output("--json", a.json);
+        files.output("--csv", a.csv);
+        files.output("--vcd", a.vcd);
+        if (!a.emit_jobs.empty())
+            for (const char* ext : {"", ".traces", ".merge"}) files.output("--emit-jobs", a.emit_jobs + ext);
+        files.check();
+    }
     if (!a.frames.empty()) return simulate_frames(a, so);
     if (a.shards || !a.emit_jobs.empty()) return emit_shard_jobs(a, mp, cfg);
     if (a.sample_front_end) {
@@ -185,6 +247,7 @@ int cmd_simulate(const SimulateArgs& a) {
             trace = read_trace(a.trace);
         }
         model::check_trace_reading(trace, cfg, a.trace);
+        check_trace_workload(trace, mp, a.trace);
         scene_name = trace.scene_name;
         if (cfg.functional == model::FunctionalMode::compute && !(trace.format == cfg.format))
             throw InputError(a.trace + ": trace was made in " + trace.format.name() + " but numerics.format is " +
@@ -316,7 +379,12 @@ int cmd_simulate(const SimulateArgs& a) {
                   << "\n";
         return watchdog ? kExitInputError : kExitInternalError;
     }
-    const Provenance provenance = make_provenance(named, mp, tally.hasher.value());
+    // The result reports the workload simulated: a workload key of 0
+    // ("follow the scene or trace") is reported as the value it followed.
+    ParamSet named_resolved = named, resolved = mp;
+    for (ParamSet* p : {&named_resolved, &resolved})
+        model::resolve_workload(*p, header.group_size, header.shadow_group_size, header.tris_per_sphere);
+    const Provenance provenance = make_provenance(named_resolved, resolved, tally.hasher.value());
     const WorkloadFacts facts = workload_facts(header, tally, result);
     SimReportInput in;
     in.provenance = &provenance;
@@ -329,8 +397,15 @@ int cmd_simulate(const SimulateArgs& a) {
     in.cpu_s = process_cpu_s();
     if (stream) in.frontend_waits_s = stream->frontend_waits_s();
     in.memory = &memory;
+    // What made the result (a shard's or a frame's: merge compares them).
+    auto result_inputs = [&] {
+        std::string content;
+        if (trace_reader) content = hex64(trace_reader->content_hash());
+        else if (!a.trace.empty()) content = hex64(header.content_hash);
+        return hash_inputs(simulate_inputs(a), false, content);
+    };
     if (sharded) {
-        const PartialInput pi{shard, in, mp.dump()};
+        const PartialInput pi{shard, in, resolved.dump(), result_inputs()};
         write_file_atomically(a.json, partial_json(pi).dump(2) + "\n");
         if (!so.quiet) std::cout << shard_summary(pi, a.json);
         if (result.functional_checked && !result.functional_match) {
@@ -344,7 +419,7 @@ int cmd_simulate(const SimulateArgs& a) {
         return 0;
     }
     nlohmann::json j = sim_json(in);
-    if (so.frame >= 0) j["frame"] = so.frame, j["animation"] = animation;
+    if (so.frame >= 0) j["frame"] = so.frame, j["animation"] = animation, j["inputs"] = result_inputs();
     if (!a.json.empty()) write_file_atomically(a.json, j.dump(2) + "\n");
     if (!a.csv.empty())
         write_file_atomically(a.csv, a.animation_row ? animation_row_csv(j, 1, std::max(so.frame, 0), result.total_cycles,

@@ -26,6 +26,7 @@
 #include <cmath>
 #include <map>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -41,6 +42,8 @@
 #include "raplas/util/error.hpp"
 #include "raplas/util/files.hpp"
 #include "raplas/util/input_file.hpp"
+#include "raplas/util/run_files.hpp"
+#include "model_identity.hpp"
 
 #ifndef RAPLAS_VERSION
 #define RAPLAS_VERSION "unknown"
@@ -53,7 +56,7 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-constexpr int kSpecVersion = 1;
+constexpr int kSpecVersion = 2;  // 2: the model identity and the scenes' mesh files
 
 // ---- the sweep -------------------------------------------------------------
 
@@ -90,6 +93,7 @@ struct Sweep {
     std::string trace_log(std::size_t s) const { return wd + "/trace-" + std::to_string(s) + ".log"; }
     std::string point_csv(std::size_t i) const { return wd + "/point-" + std::to_string(i) + ".csv"; }
     std::string point_log(std::size_t i) const { return wd + "/point-" + std::to_string(i) + ".log"; }
+    std::string failed_csv(std::size_t i) const { return wd + "/point-" + std::to_string(i) + ".failed.csv"; }
 
     std::vector<std::string> trace_argv(std::size_t s) const {
         std::vector<std::string> v{"trace"};
@@ -265,6 +269,22 @@ Sweep make_sweep(const SweepArgs& a, const std::string& wd) {
         sw.layout.vary.push_back(std::move(x));
     }
 
+    // A key set or varied that changes nothing at any point is refused
+    // (docs/BAD_INPUT.md, "Rules"): the reason it is inert, until a point it applies to.
+    std::map<std::string, std::pair<std::string, std::string>> inert;  // key -> (option, reason)
+    for (const auto& x : sw.config_sets) inert[key_of(x)] = {"--set", ""};
+    for (const auto& x : sw.scene_sets) inert[key_of(x)] = {"--set", ""};
+    for (const auto& v : sw.layout.vary) inert[v.key] = {"--vary", ""};
+    auto note_inert = [&](const ParamSet& m) {
+        for (auto it = inert.begin(); it != inert.end();) {
+            const bool config = m.has(it->first);
+            const std::string why =
+                config ? model::inert_config_key(m, it->first) : model::inert_scene_key(m, it->first);
+            if (why.empty()) it = inert.erase(it);
+            else it++->second.second = why;
+        }
+    };
+
     // One trace per distinct workload: input, scene keys, the config's workload and numerics keys.
     const std::size_t combos = sw.layout.combos();
     std::map<std::tuple<std::size_t, std::vector<std::string>, std::string>, std::size_t> trace_index;
@@ -279,6 +299,7 @@ Sweep make_sweep(const SweepArgs& a, const std::string& wd) {
                 else sets.push_back(as);
             }
             const model::SimConfig cfg = model::config_from_params(m);
+            if (s == 0) note_inert(m);
             if (cfg.group_size) sets.push_back("groups.size=" + std::to_string(cfg.group_size));
             if (cfg.shadow_group_size) sets.push_back("groups.shadow_size=" + std::to_string(cfg.shadow_group_size));
             if (cfg.triangles_per_sphere)
@@ -296,6 +317,11 @@ Sweep make_sweep(const SweepArgs& a, const std::string& wd) {
         }
     }
 
+    if (!inert.empty()) {
+        const auto& [key, why] = *inert.begin();
+        throw InputError(why.first + " " + key + ": " + why.second + " at every point of the sweep, so it would change nothing");
+    }
+
     json inputs = json::array();
     for (Input& in : sw.inputs) {
         if (in.kind == "builtin") {
@@ -308,7 +334,15 @@ Sweep make_sweep(const SweepArgs& a, const std::string& wd) {
             ParamSet check = scene_params();
             check.load_file(in.path);
         }
-        inputs.push_back({{"kind", in.kind}, {"path", absolute_path(in.path)}, {"hash", file_hash(in.path)}});
+        json meshes = json::array();
+        ParamSet p = scene_params();
+        if (in.kind == "scene") p.load_file(in.path);
+        for (const auto& x : sw.scene_sets) p.set(x);
+        for (const auto& m : scene_mesh_files(p, in.kind == "mesh" ? in.path : ""))
+            if (in.kind != "mesh") meshes.push_back({{"path", absolute_path(m)}, {"hash", file_hash(m)}});
+        json entry = {{"kind", in.kind}, {"path", absolute_path(in.path)}, {"hash", file_hash(in.path)}};
+        if (!meshes.empty()) entry["meshes"] = meshes;
+        inputs.push_back(entry);
     }
     // An animated workload: its scene (file and --set/--vary keys) gives an animation key.
     for (TraceJob& t : sw.traces) {
@@ -321,6 +355,7 @@ Sweep make_sweep(const SweepArgs& a, const std::string& wd) {
     }
     sw.spec = {{"sweep_format", kSpecVersion},
                {"raplas", RAPLAS_VERSION},
+               {"model", model_identity()},
                {"inputs", inputs},
                {"config", config_spec},
                {"sets", a.sets},
@@ -379,7 +414,10 @@ json read_spec(const std::string& wd) {
 void check_same_sweep(const json& there, const json& here, const std::string& wd) {
     if (there == here) return;
     const std::string lead = spec_path(wd) + ": the work dir holds a different sweep (";
-    const std::string tail = "); use another --work-dir or remove it";
+    const std::string tail = "); give --fresh to recompute the points it changes, another --work-dir, or remove it";
+    if (there.value("model", json()) != here.value("model", json()))
+        throw InputError(lead + "raplas's model changed: identity " + there.value("model", json()).dump() + " there, " +
+                         here.value("model", json()).dump() + " here" + tail);
     // A file that changed since the sweep started.
     auto changed = [&](const json& a, const json& b) {
         if (a.is_object() && b.is_object() && a.value("path", "") == b.value("path", "") &&
@@ -388,7 +426,12 @@ void check_same_sweep(const json& there, const json& here, const std::string& wd
     };
     const json ia = there.value("inputs", json::array()), ib = here.value("inputs", json::array());
     if (ia.is_array() && ib.is_array() && ia.size() == ib.size())
-        for (std::size_t k = 0; k < ia.size(); ++k) changed(ia[k], ib[k]);
+        for (std::size_t k = 0; k < ia.size(); ++k) {
+            changed(ia[k], ib[k]);
+            const json ma = ia[k].value("meshes", json::array()), mb = ib[k].value("meshes", json::array());
+            if (ma.is_array() && mb.is_array() && ma.size() == mb.size())
+                for (std::size_t m = 0; m < ma.size(); ++m) changed(ma[m], mb[m]);
+        }
     changed(there.value("config", json()), here.value("config", json()));
     for (const char* key : {"raplas", "inputs", "config", "sets", "vary", "iccs", "fifo"}) {
         const json a = there.value(key, json()), b = here.value(key, json());
@@ -427,37 +470,54 @@ std::vector<std::string> list_dir(const std::string& dir) {
     return names;
 }
 
-// Removes temporary files ".NAME.tmpPID[.EXT]" (see atomic_file.hpp) that
-// start with `prefix` and belong to processes that no longer exist, e.g.
-// children of a killed sweep.
-void remove_stale_temps(const std::string& dir, const std::string& prefix) {
-    for (const auto& n : list_dir(dir)) {
-        if (n.size() < 2 || n[0] != '.' || n.rfind(prefix, 0) != 0) continue;
-        const auto t = n.rfind(".tmp");
-        if (t == std::string::npos || t < 1) continue;
-        const char* digits = n.c_str() + t + 4;
-        char* end = nullptr;
-        const long pid = std::strtol(digits, &end, 10);
-        if (end == digits || pid <= 0 || (*end != '\0' && *end != '.')) continue;
-        if (::kill(pid_t(pid), 0) != 0 && errno == ESRCH) std::remove((dir + "/" + n).c_str());
-    }
-}
-
 // Creates or reopens the work dir of `sw` and locks it.
-std::unique_ptr<WorkDirLock> open_work_dir(const Sweep& sw) {
+// With `fresh`, a work dir of another sweep keeps only the results its
+// changes leave valid: the points of inputs whose files are unchanged when
+// only inputs changed, none otherwise.
+std::unique_ptr<WorkDirLock> open_work_dir(const Sweep& sw, bool fresh = false) {
     std::error_code ec;
     fs::create_directories(sw.wd, ec);
     if (ec || !fs::is_directory(sw.wd)) throw InputError(sw.wd + ": cannot create the work dir: " + ec.message());
     auto lock = std::make_unique<WorkDirLock>(sw.wd);
     if (is_file(spec_path(sw.wd))) {
-        check_same_sweep(read_spec(sw.wd), sw.spec, sw.wd);
+        json there;
+        try {
+            there = read_spec(sw.wd);
+        } catch (const InputError&) {
+            if (!fresh) throw;
+        }
+        if (!fresh) check_same_sweep(there, sw.spec, sw.wd);
+        if (there != sw.spec) {
+            // Which inputs changed; everything when anything but the inputs' files did.
+            json a = there, b = sw.spec;
+            const json ia = a.is_object() ? a.value("inputs", json()) : json(), ib = b["inputs"];
+            bool all = !ia.is_array() || ia.size() != ib.size();
+            std::vector<bool> stale(sw.inputs.size(), all);
+            if (!all) {
+                a.erase("inputs");
+                b.erase("inputs");
+                all = a != b;
+                for (std::size_t k = 0; k < ib.size(); ++k) stale[k] = all || ia[k] != ib[k];
+            }
+            std::set<std::size_t> traces;
+            for (std::size_t s = 0; s < sw.traces.size(); ++s)
+                if (stale[sw.traces[s].input]) traces.insert(s);
+            for (std::size_t i = 0; i < sw.points(); ++i)
+                if (stale[sw.layout.input(i)]) fs::remove(sw.point_csv(i), ec), fs::remove(sw.point_log(i), ec);
+            for (std::size_t s : traces) fs::remove(sw.trace_file(s), ec), fs::remove(sw.trace_log(s), ec);
+            if (all)  // another layout: results under other numbers too
+                remove_files(sw.wd, [](const std::string& n) {
+                    return n.rfind("point-", 0) == 0 || n.rfind("trace-", 0) == 0;
+                });
+            write_file_atomically(spec_path(sw.wd), sw.spec.dump(2) + "\n");
+        }
     } else {
         for (const auto& n : list_dir(sw.wd))
             if (n != ".lock")
                 throw InputError(sw.wd + ": not empty and holds no sweep.json; give a new or empty --work-dir");
         write_file_atomically(spec_path(sw.wd), sw.spec.dump(2) + "\n");
     }
-    remove_stale_temps(sw.wd, ".");
+    remove_stale_temps(sw.wd);  // of every target: children of a killed sweep
     return lock;
 }
 
@@ -552,9 +612,8 @@ struct Progress {
 int run_sweep(const Sweep& sw, const SweepArgs& a) {
     const Derived dv = derived_of(a.base_iccs, a.normalize, sw.layout);
     const References refs = references_of(a, sw.layout);
-    const auto lock = open_work_dir(sw);
+    const auto lock = open_work_dir(sw, a.fresh);
     const std::string out = a.out;
-    remove_stale_temps(fs::absolute(out).parent_path().string(), "." + fs::path(out).filename().string() + ".tmp");
     const std::size_t n = sw.points();
     const std::size_t ns = sw.traces.size();
     Results results(sw.wd, n);
@@ -660,7 +719,15 @@ int run_sweep(const Sweep& sw, const SweepArgs& a) {
             }
             ++pr.traces_done;
         } else {
-            const bool have = results.load(c.index);
+            // A point whose run failed has no result, even when it wrote its
+            // row (a functional mismatch does): the row is kept beside it for
+            // a look, and the next run of the sweep simulates the point again.
+            std::string kept;
+            if (!ok && is_file(sw.point_csv(c.index))) {
+                kept = sw.failed_csv(c.index);
+                std::rename(sw.point_csv(c.index).c_str(), kept.c_str());
+            }
+            const bool have = ok && results.load(c.index);
             ++pr.run_done;
             if (have) {
                 ++pr.done;
@@ -672,7 +739,8 @@ int run_sweep(const Sweep& sw, const SweepArgs& a) {
             } else {
                 point[c.index] = St::failed;
                 ++pr.failed;
-                fail(input, sw.describe(c.index), c.argv, ok ? "no CSV written" : why, c.log);
+                fail(input, sw.describe(c.index), c.argv,
+                     ok ? "no CSV written" : kept.empty() ? why : why + "; its row: " + kept, c.log);
             }
         }
         pr.draw();
@@ -702,7 +770,7 @@ int run_sweep(const Sweep& sw, const SweepArgs& a) {
 
 int emit_jobs(const Sweep& sw, const SweepArgs& a) {
     {
-        const auto lock = open_work_dir(sw);
+        const auto lock = open_work_dir(sw, a.fresh);
     }
     const std::string exe = self_exe();
     const std::string cd = "cd " + shell_quote(fs::current_path().string()) + " && ";
@@ -713,7 +781,15 @@ int emit_jobs(const Sweep& sw, const SweepArgs& a) {
     std::size_t trace_jobs = 0;
     for (std::size_t s = 0; s < sw.traces.size(); ++s)
         if (!sw.traces[s].animated) traces += line(sw.trace_file(s), sw.trace_argv(s)), ++trace_jobs;
-    for (std::size_t i = 0; i < sw.points(); ++i) points += line(sw.point_csv(i), sw.point_argv(i));
+    for (std::size_t i = 0; i < sw.points(); ++i) {
+        // A failed point leaves no result (its row, if written, moves aside), so that a rerun retries it.
+        std::string l = line(sw.point_csv(i), sw.point_argv(i));
+        const std::string end = "; }\n";
+        l.replace(l.size() - end.size(), end.size(),
+                  " || { mv -f " + shell_quote(sw.point_csv(i)) + " " + shell_quote(sw.failed_csv(i)) +
+                      " 2>/dev/null; false; }; }\n");
+        points += l;
+    }
     const std::string traces_file = a.emit_jobs + ".traces";
     write_file_atomically(traces_file, traces);
     write_file_atomically(a.emit_jobs, points);
@@ -790,6 +866,9 @@ void add_sweep_options(CLI::App* cmd, SweepArgs& a) {
                     "write the commands to FILE.traces and FILE (one per line, for GNU parallel or a Slurm array) "
                     "instead of running them");
     cmd->add_flag("--merge", a.merge, "gather the work dir's point results into --out and exit");
+    cmd->add_flag("--fresh", a.fresh,
+                  "when the work dir holds a sweep made from other inputs (scene, mesh or config files, keys, "
+                  "points, or another build of raplas), recompute the points that changes instead of refusing");
     cmd->add_option("--base-iccs", a.base_iccs,
                     "the ICC count that speedup and efficiency are relative to, in each series (default: the "
                     "smallest ICC count of the series)")
@@ -806,6 +885,31 @@ void add_sweep_options(CLI::App* cmd, SweepArgs& a) {
     cmd->add_flag("-q,--quiet", a.quiet, "no summary on stdout");
 }
 
+// What a sweep reads and writes, checked before any work (docs/BAD_INPUT.md,
+// "Rules"): no output is an input (a reference table given to --check
+// included) or another output.
+void check_sweep_files(const SweepArgs& a, const Sweep* sw) {
+    RunFiles files;
+    if (sw) {
+        for (const Input& in : sw->inputs) {
+            if (in.kind == "builtin") continue;
+            files.input("--" + in.kind, in.path);
+            if (in.kind != "scene") continue;
+            ParamSet p = scene_params();
+            p.load_file(in.path);
+            for (const auto& x : sw->scene_sets) p.set(x);
+            for (const auto& m : scene_mesh_files(p, "")) files.input("the mesh of --scene " + in.path, m);
+        }
+        if (!sw->config.empty()) files.input("--config", resolve_config(sw->config));
+    }
+    files.input("--check", a.check);
+    files.output("--out", a.out);
+    files.output("--update", a.update);
+    if (!a.emit_jobs.empty())
+        for (const char* ext : {"", ".traces"}) files.output("--emit-jobs", a.emit_jobs + ext);
+    files.check();
+}
+
 int cmd_sweep(const SweepArgs& a) {
     check_out_path(a.out);
     const std::string wd = absolute_path(a.work_dir.empty() ? a.out + ".d" : a.work_dir);
@@ -813,11 +917,16 @@ int cmd_sweep(const SweepArgs& a) {
         if (!a.emit_jobs.empty()) throw UsageError("give either --merge or --emit-jobs, not both");
         const bool defines = !a.scenes.empty() || !a.meshes.empty() || !a.config.empty() || !a.sets.empty() ||
                              !a.vary.empty() || !a.iccs.empty() || !a.fifo.empty();
-        if (!defines) return merge(wd, a, nullptr);
+        if (!defines) {
+            check_sweep_files(a, nullptr);
+            return merge(wd, a, nullptr);
+        }
         const Sweep sw = make_sweep(a, wd);
+        check_sweep_files(a, &sw);
         return merge(wd, a, &sw);
     }
     const Sweep sw = make_sweep(a, wd);
+    check_sweep_files(a, &sw);
     if (!a.emit_jobs.empty()) {
         if (!a.check.empty() || !a.update.empty())
             throw InputError("--check and --update need the results: give them to --merge after the jobs ran");

@@ -54,6 +54,7 @@ struct SimulateArgs {
     bool sample_front_end = false;  // sample_passes: trace only the shadow groups of the sampled passes
     bool dump_config = false;
     bool animation_row = false;  // --animation-row: the CSV row a sweep of animated scenes reads
+    bool fresh = false;          // --fresh: a work dir of other inputs is emptied, not refused
 };
 
 // A machine config: a file, or a name in configs/ (the working directory's,
@@ -83,6 +84,7 @@ struct SweepArgs {
     std::vector<std::string> tolerance;     // COL=REL for --check
     unsigned jobs = 0;                      // 0: number of cores
     bool merge = false, progress = false, quiet = false;
+    bool fresh = false;                     // --fresh: recompute the points whose inputs changed
     const CLI::App* cmd = nullptr;          // gives the order of --scene and --mesh
     std::string command_line;               // as typed (the --update header)
 };

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -10,6 +11,7 @@
 #include <iostream>
 #include <map>
 
+#include "run_inputs.hpp"
 #include "shard.hpp"
 
 #include "raplas/app/processes.hpp"
@@ -19,6 +21,7 @@
 #include "raplas/util/atomic_file.hpp"
 #include "raplas/util/error.hpp"
 #include "raplas/util/files.hpp"
+#include "raplas/util/run_files.hpp"
 #include "raplas/util/input_file.hpp"
 
 namespace raplas {
@@ -82,6 +85,41 @@ void check_frame_pattern(const std::string& pattern, const std::string& option) 
 
 std::string frame_file(const std::string& pattern, int frame) { return sequence_file_name(pattern, frame); }
 
+void check_frame_leftovers(const std::string& pattern, const std::string& option, const FrameRange& range) {
+    // The frame number's place: a number wider than any padding, found again.
+    constexpr long long kMark = 987654321;
+    const std::string marked = sequence_file_name(pattern, kMark);
+    const std::size_t at = marked.find(std::to_string(kMark));
+    if (at == std::string::npos) return;
+    const std::string suffix = marked.substr(at + 9);
+    if (suffix.find('/') != std::string::npos) return;  // the number names a folder: not looked into
+    const std::size_t slash = marked.rfind('/', at);
+    const std::string dir = slash == std::string::npos ? "." : marked.substr(0, slash + 1);
+    const std::string prefix = slash == std::string::npos ? marked.substr(0, at) : marked.substr(slash + 1, at - slash - 1);
+    std::vector<std::string> other;
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(dir, ec)) {
+        const std::string n = e.path().filename().string();
+        if (n.size() <= prefix.size() + suffix.size() || n.compare(0, prefix.size(), prefix) != 0 ||
+            n.compare(n.size() - suffix.size(), suffix.size(), suffix) != 0)
+            continue;
+        const std::string digits = n.substr(prefix.size(), n.size() - prefix.size() - suffix.size());
+        if (digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+        const long long f = std::stoll(digits);
+        if (fs::path(frame_file(pattern, int(f))).filename() != n) continue;  // another padding
+        if (f < range.first || f > range.last) other.push_back(n);
+    }
+    if (other.empty()) return;
+    std::sort(other.begin(), other.end());
+    std::string list;
+    for (std::size_t k = 0; k < other.size() && k < 3; ++k) list += (k ? ", " : "") + other[k];
+    if (other.size() > 3) list += ", ... (" + std::to_string(other.size()) + " files)";
+    throw InputError(option + " " + pattern + ": " + list + (other.size() == 1 ? " is a frame" : " are frames") +
+                     " of another run (this one writes frames " + std::to_string(range.first) + " to " +
+                     std::to_string(range.last) + "); remove " + (other.size() == 1 ? "it" : "them") +
+                     " or choose another pattern, so that the folder holds one run's frames");
+}
+
 nlohmann::json frames_json(const std::vector<nlohmann::json>& per_frame, const nlohmann::json& t) {
     nlohmann::json j;
     const nlohmann::json& first = per_frame.at(0);
@@ -94,7 +132,7 @@ nlohmann::json frames_json(const std::vector<nlohmann::json>& per_frame, const n
         nlohmann::json e;
         e["frame"] = f.at("frame");
         for (const auto& [k, v] : f.items()) {
-            bool common = k == "frame" || k == "iccs_detail";
+            bool common = k == "frame" || k == "iccs_detail" || k == "inputs";
             for (const char* c : kFrameCommonKeys) common = common || k == c;
             if (!common) e[k] = v;
         }
@@ -133,6 +171,7 @@ nlohmann::json animation_totals_json(const std::vector<nlohmann::json>& per_fram
     t.erase("pass_cycles");
     t.erase("first_mismatch");
     t.erase("frame");
+    t.erase("inputs");
     static const char* const sums[] = {
         "/total_cycles", "/time_ms", "/passes", "/primary_passes", "/ray_groups", "/primary_groups",
         "/workload/plane_sphere_tests", "/workload/sphere_hits", "/workload/ray_triangle_tests",
@@ -258,9 +297,43 @@ int emit_frame_jobs(const SimulateArgs& a, const FrameRange& range) {
     std::error_code ec;
     fs::create_directories(wd, ec);
     if (!fs::is_directory(wd)) throw InputError("--work-dir " + wd + ": cannot create the directory");
+    const std::vector<std::string> common = frame_run_args(a, a.so.threads);
+    // The work dir serves one run: the frames' command and hashes of every
+    // input and of the model; frame results made from other inputs are
+    // refused, or removed with --fresh.
+    const nlohmann::json spec = {{"simulate", common}, {"inputs", hash_inputs(simulate_inputs(a))}};
+    const std::string spec_path = wd + "/frames.json";
+    bool write_spec = true;
+    if (is_file(spec_path)) {
+        nlohmann::json old;
+        try {
+            old = nlohmann::json::parse(read_file(spec_path));
+        } catch (const nlohmann::json::parse_error&) {
+        }
+        write_spec = old != spec;
+        if (write_spec) {
+            std::string why =
+                inputs_change(old.is_object() ? old.value("inputs", nlohmann::json()) : nlohmann::json(), spec["inputs"]);
+            if (why.empty() || why == "the inputs differ")
+                why = "other commands: another config key, ICC count, FIFO depth or option";
+            if (!a.fresh)
+                throw InputError(spec_path + ": the work dir holds the frames of another run (" + why +
+                                 "); give --fresh to remove its results, or another --work-dir");
+            remove_files(wd, [](const std::string& n) { return n.rfind("frame-", 0) == 0; });
+        }
+    } else {
+        const auto is_frame = [](const std::string& n) { return n.rfind("frame-", 0) == 0; };
+        if (a.fresh) remove_files(wd, is_frame);
+        else
+            for (const auto& e : fs::directory_iterator(wd))
+                if (is_frame(e.path().filename().string()))
+                    throw InputError(wd + ": holds frame results but no frames.json; give --fresh to remove them, or "
+                                          "another --work-dir");
+    }
+    if (write_spec) write_file_atomically(spec_path, spec.dump(2) + "\n");
     const std::string exe = self_exe();
     const std::string cd = "cd " + shell_quote(fs::current_path().string()) + " && ";
-    const std::vector<std::string> common = frame_run_args(a, a.so.threads);
+
     std::string jobs;
     std::vector<std::string> merge{"merge"};
     for (int f = range.first; f <= range.last; ++f) {
@@ -377,6 +450,8 @@ int merge_frames(const MergeArgs& a) {
     if (a.json.empty() && a.csv.empty()) throw InputError("merge: give --json OUT.json, --csv OUT.csv or both");
     check_result_path("--json", a.json, a.parts);
     check_result_path("--csv", a.csv, a.parts);
+    if (same_file(a.json, a.csv))
+        throw InputError("--csv " + a.csv + ": is also the output --json " + a.json + "; give each output its own file");
     std::map<int, std::pair<std::string, nlohmann::json>> frames;  // by frame: file, result
     const std::string what = "a result of raplas simulate --frame F --json";
     for (const auto& file : a.parts) {
@@ -414,6 +489,10 @@ int merge_frames(const MergeArgs& a) {
             for (const char* k : {"scene", "config_hash", "animation", "iccs"})
                 if (j[k] != first[k])
                     throw InputError(file + ": another run than " + ffile + " ('" + k + "' differs): merge the frames of one run");
+            if (j.value("inputs", nlohmann::json()) != first.value("inputs", nlohmann::json()))
+                throw InputError(file + ": made from other inputs than " + ffile + " (" +
+                                 inputs_change(first.value("inputs", nlohmann::json()), j.value("inputs", nlohmann::json())) +
+                                 "): merge the frames of one run");
         }
         const int f = j["frame"].get<int>();
         if (const auto it = frames.find(f); it != frames.end())

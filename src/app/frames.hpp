@@ -32,6 +32,10 @@ FrameRange parse_frames(const std::string& spec, int frames, const std::string& 
 // value checked (InputError naming it), and the name of frame `frame`.
 void check_frame_pattern(const std::string& pattern, const std::string& option);
 std::string frame_file(const std::string& pattern, int frame);
+// InputError when files named by `pattern` (given to `option`) exist for
+// frames outside `range`: the frames of another run, which the files this
+// run writes would be mixed with (docs/BAD_INPUT.md, "Rules").
+void check_frame_leftovers(const std::string& pattern, const std::string& option, const FrameRange& range);
 
 // The results of `simulate --frame F --json` for consecutive frames, gathered:
 // the run's common fields once, a `frames` array (each frame's figures, its

@@ -11,10 +11,13 @@
 #include <iostream>
 #include <optional>
 
+#include "run_inputs.hpp"
 #include "raplas/app/processes.hpp"
+#include "raplas/frontend/trace_io.hpp"
 #include "raplas/util/atomic_file.hpp"
 #include "raplas/util/error.hpp"
 #include "raplas/util/files.hpp"
+#include "raplas/util/run_files.hpp"
 #include "raplas/util/input_file.hpp"
 
 #ifndef RAPLAS_VERSION
@@ -28,7 +31,7 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-constexpr int kPartialFormat = 1;
+constexpr int kPartialFormat = 2;  // 2: the inputs that made it
 constexpr const char* kAssignment = "pass p belongs to shard p mod shards";
 
 bool all_digits(const std::string& s) {
@@ -256,6 +259,12 @@ std::vector<const Part*> check_parts(const std::vector<Part>& parts) {
                                  (std::string(key) == "config_hash" ? "machine config" : "workload") + " (" + key +
                                  " " + y + ") than " + a.doc.file + " (" + x + "): merge the shards of one run");
         }
+        // What made each part: the model, the config file, the --set keys, the trace.
+        const json& ia = a.doc.at(a.doc.j, "inputs", "");
+        const json& ib = b.doc.at(b.doc.j, "inputs", "");
+        if (ia != ib)
+            throw InputError(b.doc.file + ": made from other inputs than " + a.doc.file + " (" + inputs_change(ia, ib) +
+                             "): merge the shards of one run");
         // What every shard reports of the whole run (the hashes leave out the names).
         for (const char* key : {"scene", "config", "passes", "overrides", "resolved_config", "machine_config", "workload"}) {
             b.doc.at(b.doc.j, key, "");
@@ -347,12 +356,14 @@ json partial_json(const PartialInput& in) {
     j["workload_hash"] = p.workload_hash;
     j["resolved_config"] = p.resolved_config;
     j["machine_config"] = in.machine_config;
+    j["inputs"] = in.inputs;
     j["workload"] = {{"ray_groups", w.ray_groups},
                      {"primary_groups", w.primary_groups},
                      {"spheres", w.spheres},
                      {"triangles", w.triangles},
                      {"group_size", w.group_size},
                      {"shadow_group_size", w.shadow_group_size},
+                     {"triangles_per_sphere", w.triangles_per_sphere},
                      {"plane_sphere_tests", w.counts.plane_tests},
                      {"sphere_hits", w.counts.sphere_hits},
                      {"ray_triangle_tests", w.counts.rt_tests},
@@ -392,6 +403,8 @@ int cmd_merge(const MergeArgs& a) {
         throw InputError("merge: give --json OUT.json, --csv OUT.csv or both");
     check_result_path("--json", a.json, a.parts);
     check_result_path("--csv", a.csv, a.parts);
+    if (same_file(a.json, a.csv))
+        throw InputError("--csv " + a.csv + ": is also the output --json " + a.json + "; give each output its own file");
     std::vector<Part> parts;
     for (const auto& f : a.parts) parts.push_back(read_part(f));
     const std::vector<const Part*> shards = check_parts(parts);
@@ -491,6 +504,7 @@ int cmd_merge(const MergeArgs& a) {
     w.triangles = first.u64(wj, "triangles", "workload.");
     w.group_size = std::uint32_t(first.u64(wj, "group_size", "workload."));
     w.shadow_group_size = std::uint32_t(first.u64(wj, "shadow_group_size", "workload."));
+    w.triangles_per_sphere = std::uint32_t(first.u64(wj, "triangles_per_sphere", "workload."));
     w.counts.plane_tests = first.u64(wj, "plane_sphere_tests", "workload.");
     w.counts.sphere_hits = first.u64(wj, "sphere_hits", "workload.");
     w.counts.rt_tests = first.u64(wj, "ray_triangle_tests", "workload.");
@@ -591,6 +605,7 @@ int emit_shard_jobs(const SimulateArgs& a, const ParamSet& mp, const model::SimC
     for (const auto& [opt, path] : {std::pair<const char*, std::string>{"--trace", a.trace}, {"--scene", so.scene},
                                     {"--mesh", so.mesh}})
         if (!path.empty() && !is_file(path)) throw InputError(std::string(opt) + " " + path + ": no such file");
+    if (!a.trace.empty()) check_trace_workload(TraceReader(a.trace).header(), mp, a.trace);
 
     // The --set keys: config keys go to every shard, scene keys to the trace.
     std::vector<std::string> config_sets, scene_sets;
@@ -641,22 +656,38 @@ int emit_shard_jobs(const SimulateArgs& a, const ParamSet& mp, const model::SimC
         make_trace.insert(make_trace.end(), {"--out", trace, "-q"});
     }
 
-    // The work dir serves one run: its spec names the trace and what the
-    // shards simulate (any shard count: each count's files have their own names).
-    const json spec = {{"raplas_version", RAPLAS_VERSION}, {"trace", make_trace}, {"simulate", sim}};
+    // The work dir serves one run: its spec names the trace, what the shards
+    // simulate (any shard count: each count's files have their own names)
+    // and hashes of every input and of the model; results made from other
+    // inputs are refused, or removed with --fresh.
+    const json spec = {{"raplas_version", RAPLAS_VERSION},
+                       {"trace", make_trace},
+                       {"simulate", sim},
+                       {"inputs", hash_inputs(simulate_inputs(a))}};
     const std::string spec_path = wd + "/shards.json";
-    if (is_file(spec_path)) {
+    bool write_spec = !is_file(spec_path);
+    if (!write_spec) {
         json old;
         try {
             old = json::parse(read_file(spec_path));
         } catch (const json::parse_error&) {
         }
-        if (old != spec)
-            throw InputError(spec_path + ": the work dir holds the jobs of another run (another workload, config or "
-                                         "raplas); remove it or give another --work-dir");
-    } else {
-        write_file_atomically(spec_path, spec.dump(2) + "\n");
+        if (old != spec) {
+            std::string why = inputs_change(old.is_object() ? old.value("inputs", json()) : json(), spec["inputs"]);
+            if (why.empty() || why == "the inputs differ")
+                why = old.is_object() && old.value("raplas_version", json()) != spec["raplas_version"]
+                          ? "another raplas version"
+                          : "other commands: another config key, ICC count, FIFO depth or workload";
+            if (!a.fresh)
+                throw InputError(spec_path + ": the work dir holds the jobs of another run (" + why +
+                                 "); give --fresh to remove its results, or another --work-dir");
+            remove_files(wd, [&](const std::string& n) {
+                return n.rfind("shard-", 0) == 0 || (a.trace.empty() && n == "workload.trace");
+            });
+            write_spec = true;
+        }
     }
+    if (write_spec) write_file_atomically(spec_path, spec.dump(2) + "\n");
 
     const std::string exe = self_exe();
     const std::string cd = "cd " + shell_quote(fs::current_path().string()) + " && ";

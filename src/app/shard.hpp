@@ -34,10 +34,20 @@ struct PartialInput {
     ShardSpec shard;
     SimReportInput report;       // what a whole run reports from (result, memory, workload, provenance, names)
     std::string machine_config;  // the resolved machine config as TOML (ParamSet::dump)
+    nlohmann::json inputs;       // what made it (run_inputs.hpp)
 };
 nlohmann::json partial_json(const PartialInput& in);
 // What a shard prints on stdout: one line.
 std::string shard_summary(const PartialInput& in, const std::string& json_path);
+
+// Refuses (InputError naming the key) a config key given with --set that
+// changes nothing in the machine `mp` (model::inert_config_key), a scene key
+// with a trace (the trace fixes the scene), or one a workload key overrides.
+void check_keys_apply(const ParamSet& mp, const std::vector<std::string>& config_keys,
+                      const std::vector<std::string>& scene_sets, const std::string& trace);
+// Refuses a trace made with other workload values than the config's
+// workload.* keys ask for (0 follows the trace).
+void check_trace_workload(const Trace& t, const ParamSet& mp, const std::string& name);
 
 // `raplas simulate --shards N --emit-jobs FILE`: the job lists; `mp` is the
 // resolved machine config, `cfg` the config from it.

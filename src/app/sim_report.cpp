@@ -89,6 +89,9 @@ const std::vector<std::pair<const char*, const char*>>& columns() {
         {"primary_groups", "/primary_groups"},
         {"spheres", "/spheres"},
         {"triangles", "/triangles"},
+        {"group_size", "/group_size"},
+        {"shadow_group_size", "/shadow_group_size"},
+        {"triangles_per_sphere", "/triangles_per_sphere"},
         {"sphere_hits", "/workload/sphere_hits"},
         {"ray_triangle_tests", "/workload/ray_triangle_tests"},
         {"pairless_spheres", "/workload/pairless_spheres"},
@@ -172,6 +175,7 @@ WorkloadFacts workload_facts(const Trace& t, const WorkloadTally& tally, const m
     w.triangles = t.triangles.size();
     w.group_size = t.group_size;
     w.shadow_group_size = t.shadow_group_size;
+    w.triangles_per_sphere = t.tris_per_sphere;
     w.counts = tally.counts;
     if (r.first_mismatch) {
         w.mismatch_primary = r.first_mismatch->primary;
@@ -237,6 +241,7 @@ nlohmann::json sim_json(const SimReportInput& in) {
     j["triangles"] = t.triangles;
     j["group_size"] = t.group_size;
     j["shadow_group_size"] = t.shadow_group_size;
+    j["triangles_per_sphere"] = t.triangles_per_sphere;
     const GroupCounts& wc = t.counts;
     j["workload"] = {{"plane_sphere_tests", wc.plane_tests},
                      {"sphere_hits", wc.sphere_hits},

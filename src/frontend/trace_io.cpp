@@ -664,6 +664,7 @@ bool TraceReader::next_block() {
     }
     if (trace_block_checksum(version_, payload_.data(), payload_.size()) != sum)
         throw InputError(name + ": corrupt trace (checksum mismatch in " + what + ")");
+    content_ = fnv1a64(std::string_view(bh, std::size_t(kTraceBlockHeaderBytes)), content_);
     ++blocks_;
     payload_at_ = at + kTraceBlockHeaderBytes;
     Reader r{payload_, 0, name, payload_at_};
@@ -725,6 +726,7 @@ Trace read_whole(TraceReader& r) {
     Trace t = r.header();
     TraceGroup g;
     while (r.next(g)) t.groups.push_back(std::move(g));
+    t.content_hash = r.content_hash();
     return t;
 }
 

@@ -384,6 +384,16 @@ std::string sequence_file_name(const std::string& pattern, long long n) {
     return out;
 }
 
+std::vector<std::string> animation_mesh_files(const ParamSet& p) {
+    std::vector<std::string> files;
+    if (p.get_string("animation.mesh_sequence").empty()) return files;
+    const bool builtin = p.get_string("animation.builtin") != "none";
+    const int frames = builtin && !p.is_given("animation.frames") ? kBuiltinFrames
+                                                                   : static_cast<int>(p.get_int("animation.frames"));
+    for (int f = 0; f < frames; ++f) files.push_back(sequence_file(p, f));
+    return files;
+}
+
 std::optional<Mesh> animation_still_mesh(const ParamSet& p, const std::string& mesh_override) {
     const std::string builtin = p.get_string("animation.builtin");
     const std::string sequence = p.get_string("animation.mesh_sequence");

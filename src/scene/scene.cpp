@@ -84,6 +84,15 @@ std::string resolve_mesh_path(const std::string& mesh, const std::string& scene_
     throw InputError("mesh '" + mesh + "' not found (searched: " + tried + ")");
 }
 
+std::vector<std::string> scene_mesh_files(const ParamSet& p, const std::string& mesh_override) {
+    std::vector<std::string> files;
+    if (!mesh_override.empty()) files.push_back(mesh_override);
+    const std::string mesh = p.get_string("mesh");
+    if (mesh_override.empty() && !mesh.empty()) files.push_back(resolve_mesh_path(mesh, p.file_dir()));
+    for (auto& f : animation_mesh_files(p)) files.push_back(std::move(f));
+    return files;
+}
+
 Camera auto_camera(const Mesh& m, std::size_t triangles, double fov_deg, double aspect) {
     Aabb b;
     for (std::size_t t = 0; t < triangles; ++t)

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 #include "raplas/util/error.hpp"
 
@@ -47,6 +48,16 @@ std::string file_hash(const std::string& path) {
 
 std::string absolute_path(const std::string& path) {
     return std::filesystem::absolute(path).lexically_normal().string();
+}
+
+std::size_t remove_files(const std::string& dir, const std::function<bool(const std::string&)>& which) {
+    std::vector<std::filesystem::path> doomed;
+    std::error_code ec;
+    for (const auto& e : std::filesystem::directory_iterator(dir, ec))
+        if (which(e.path().filename().string())) doomed.push_back(e.path());
+    std::size_t n = 0;
+    for (const auto& p : doomed) n += std::filesystem::remove(p, ec);
+    return n;
 }
 
 std::string executable_dir() {

@@ -30,9 +30,12 @@ struct Outcome {
 };
 
 // Runs with `dir` as working directory; stdout and stderr go through files
-// beside `dir`, removed afterwards.
+// beside `dir`, removed afterwards. With `exe` the child executes that
+// program instead (the raplas executable: a run that starts raplas processes
+// of its own, as a sweep does, needs it).
 inline Outcome run_in_child(const std::filesystem::path& dir, const std::vector<std::string>& args,
-                            const std::vector<std::pair<std::string, std::string>>& env = {}) {
+                            const std::vector<std::pair<std::string, std::string>>& env = {},
+                            const char* exe = nullptr) {
     namespace fs = std::filesystem;
     const fs::path out = dir.parent_path() / (dir.filename().string() + ".stdout");
     const fs::path err = dir.parent_path() / (dir.filename().string() + ".stderr");
@@ -52,6 +55,10 @@ inline Outcome run_in_child(const std::filesystem::path& dir, const std::vector<
         std::vector<char*> argv;
         for (auto& s : storage) argv.push_back(s.data());
         argv.push_back(nullptr);
+        if (exe) {
+            ::execv(exe, argv.data());
+            ::_exit(126);
+        }
         const int code = raplas::run_cli(int(storage.size()), argv.data());
         std::cout.flush();
         std::cerr.flush();

@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <random>
 #include <set>
 #include <sstream>
@@ -104,6 +105,10 @@ protected:
             fs::create_directory(p);
             return;
         }
+        if (auto target = t["link"].value<std::string>()) {  // a symbolic link to another of the case's files
+            fs::create_symlink(*target, p);
+            return;
+        }
         std::string data;
         if (auto shard = t["result"].value<std::string>()) {
             // simulate's --json on the valid trace (workload = "other": another
@@ -126,6 +131,11 @@ protected:
                 data.replace(at + key.size(), end - at - key.size(), "0.0.1");
             } else if (edit == "truncated") {
                 data.resize(data.size() / 2);
+            } else if (edit == "model") {  // made by a build of other sources
+                const std::string key = "\"model\": \"";
+                const std::size_t at = data.find(key);
+                ASSERT_NE(at, std::string::npos);
+                data.replace(at + key.size(), 16, "0123456789abcdef");
             } else {
                 ASSERT_EQ(edit, "") << "unknown edit";
             }
@@ -161,15 +171,46 @@ TEST_F(BadInputTable, EveryCaseGetsItsExitCodeAndWholeStderr) {
         fs::create_directory(case_dir);
         if (const toml::table* files = c["files"].as_table())
             for (const auto& [fname, spec] : *files) make_file(case_dir / std::string(fname.str()), spec);
-        std::set<std::string> before;
-        for (const auto& e : fs::directory_iterator(case_dir)) before.insert(e.path().filename().string());
-        std::vector<std::string> args;
-        for (const auto& a : *c["args"].as_array()) args.push_back(a.value_or(std::string()));
         std::vector<std::pair<std::string, std::string>> env;
         if (const toml::table* e = c["env"].as_table())
             for (const auto& [k, v] : *e) env.emplace_back(std::string(k.str()), v.value_or(std::string()));
+        auto args_of = [](const toml::array& a) {
+            std::vector<std::string> v;
+            for (const auto& x : a) v.push_back(x.value_or(std::string()));
+            return v;
+        };
+        // Commands run first (each must exit with before_exit, default 0), then
+        // the files of `change` written over: the state the case's command meets.
+        // exec = true: the raplas executable runs the case (a sweep starts raplas processes).
+        const char* exe = c["exec"].value_or(false) ? RAPLAS_BINARY : nullptr;
+        if (const toml::array* steps = c["before"].as_array())
+            for (const auto& step : *steps) {
+                const Outcome b = run_in_child(case_dir, args_of(*step.as_array()), env, exe);
+                ASSERT_EQ(b.code, int(c["before_exit"].value_or(std::int64_t(0)))) << "a step before: " << b.err;
+            }
+        std::map<std::string, std::string> inputs;  // every file the case made: no run may change one
+        if (const toml::table* change = c["change"].as_table())
+            for (const auto& [fname, text] : *change)
+                std::ofstream(case_dir / std::string(fname.str()), std::ios::binary) << text.value_or(std::string());
+        for (const char* table : {"files", "change"})
+            if (const toml::table* files = c[table].as_table())
+                for (const auto& [fname, spec] : *files)
+                    if (fs::is_regular_file(case_dir / std::string(fname.str())))
+                        inputs[std::string(fname.str())] = slurp(case_dir / std::string(fname.str()));
+        std::set<std::string> before;
+        for (const auto& e : fs::directory_iterator(case_dir)) before.insert(e.path().filename().string());
+        const std::vector<std::string> args = args_of(*c["args"].as_array());
 
-        const Outcome r = run_in_child(case_dir, args, env);
+        const Outcome r = run_in_child(case_dir, args, env, exe);
+
+        if (const toml::array* absent = c["absent"].as_array())
+            for (const auto& x : *absent) inputs.erase(x.value_or(std::string()));  // (removing it is the point)
+        for (const auto& [fname, bytes] : inputs)
+            EXPECT_TRUE(slurp(case_dir / fname) == bytes) << fname << ": an input file was changed by the run";
+        if (const toml::array* absent = c["absent"].as_array())
+            for (const auto& x : *absent)
+                EXPECT_FALSE(fs::exists(fs::symlink_status(case_dir / x.value_or(std::string()))))
+                    << x.value_or(std::string()) << " is still there";
 
         const int want_code = int(c["exit"].value_or(std::int64_t(-1)));
         EXPECT_EQ(r.code, want_code) << "stderr: " << r.err;

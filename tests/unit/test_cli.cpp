@@ -549,4 +549,54 @@ TEST_F(Provenance, WorkloadHashIsTheSameFromATraceFileAndForEitherTraceUnderBoth
     EXPECT_NE(both, from_scene) << "under `any` the pair-less spheres are part of the workload";
 }
 
+// A result describes the run that happened (docs/BAD_INPUT.md, "Rules"): the
+// same 8x8 workload simulated from a trace with the config following it, from
+// the trace with the config naming 8, and from the scene, gives one config
+// hash, one area and the group sizes in the JSON and the CSV.
+TEST_F(Provenance, ResultsReportTheWorkloadSimulatedWhicheverPathItCameBy) {
+    const std::vector<std::string> scene = {"--set", "image.width=16", "--set", "image.height=16", "--set",
+                                            "groups.size=8", "--set", "groups.shadow_size=4"};
+    ASSERT_EQ(run(plus({"trace", "-q", "-o", "g8.trace"}, scene)).code, 0);
+    auto sim = [&](const std::vector<std::string>& args, const std::string& name) {
+        const RunResult r = run(plus(plus({"simulate", "-q", "--config", "paper", "--iccs", "2", "--json",
+                                           name + ".json", "--csv", name + ".csv"},
+                                          args),
+                                     {}));
+        EXPECT_EQ(r.code, 0) << r.err;
+        const auto table = parse_csv(slurp(dir / (name + ".csv")));  // header, then the row
+        std::map<std::string, std::string> row;
+        EXPECT_EQ(table.size(), 2u);
+        for (std::size_t c = 0; table.size() == 2 && c < table[0].size() && c < table[1].size(); ++c)
+            row[table[0][c]] = table[1][c];
+        return std::make_pair(nlohmann::json::parse(slurp(dir / (name + ".json"))), row);
+    };
+    const auto [follow, follow_csv] =
+        sim({"--trace", "g8.trace", "--set", "workload.group_size=0", "--set", "workload.shadow_group_size=0"}, "follow");
+    const auto [named, named_csv] =
+        sim({"--trace", "g8.trace", "--set", "workload.group_size=8", "--set", "workload.shadow_group_size=4"}, "named");
+    const auto [from_scene, scene_csv] = sim(plus(scene, {"--set", "workload.group_size=0", "--set",
+                                                          "workload.shadow_group_size=0"}),
+                                             "scene");
+    for (const auto* j : {&follow, &named, &from_scene}) {
+        EXPECT_EQ((*j)["resolved_config"]["workload.group_size"], 8);
+        EXPECT_EQ((*j)["resolved_config"]["workload.shadow_group_size"], 4);
+        EXPECT_EQ((*j)["overrides"]["workload.group_size"], 8) << "paper.toml says 16";
+        EXPECT_EQ((*j)["group_size"], 8);
+        EXPECT_EQ((*j)["shadow_group_size"], 4);
+        EXPECT_EQ((*j)["config_hash"], named["config_hash"]);
+        EXPECT_EQ((*j)["area"]["total"], named["area"]["total"]);
+        EXPECT_EQ((*j)["total_cycles"], named["total_cycles"]);
+    }
+    for (const auto* row : {&follow_csv, &named_csv, &scene_csv}) {
+        EXPECT_EQ(row->at("group_size"), "8");
+        EXPECT_EQ(row->at("shadow_group_size"), "4");
+        EXPECT_EQ(row->at("triangles_per_sphere"), std::to_string(named["triangles_per_sphere"].get<int>()));
+        EXPECT_EQ(row->at("config_hash"), named["config_hash"]);
+    }
+    // The paper machine's own 16x16 groups are another run: another hash.
+    const auto [sixteen, sixteen_csv] = sim({"--set", "image.width=16", "--set", "image.height=16"}, "sixteen");
+    EXPECT_EQ(sixteen["resolved_config"]["workload.group_size"], 16);
+    EXPECT_NE(sixteen["config_hash"], named["config_hash"]);
+}
+
 }  // namespace

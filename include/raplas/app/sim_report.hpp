@@ -35,7 +35,7 @@ std::string config_hash(ParamSet resolved);
 struct WorkloadFacts {
     std::uint64_t ray_groups = 0, primary_groups = 0, spheres = 0, triangles = 0;
     std::uint64_t untraced_groups = 0;  // --sample-front-end: groups the front end left out
-    std::uint32_t group_size = 0, shadow_group_size = 0;
+    std::uint32_t group_size = 0, shadow_group_size = 0, triangles_per_sphere = 0;
     GroupCounts counts;
     bool mismatch_primary = true;
     std::int32_t mismatch_px = 0, mismatch_py = 0;

@@ -78,6 +78,9 @@ struct Trace {
     bool pairless = false;
     std::uint32_t primary_groups = 0;     // groups [0, primary_groups) are primary, the rest shadow
     std::vector<TraceGroup> groups;       // issue order
+    // Read from a file or pipe (read_trace): the reader's content_hash(); 0
+    // for a trace made in memory.
+    std::uint64_t content_hash = 0;
 
     GroupCounts total_counts() const;
 };
@@ -162,6 +165,10 @@ public:
     std::uint64_t total() const { return total_; }
     std::uint64_t groups_read() const { return groups_read_; }
     std::uint64_t bytes_read() const;
+    // A hash of every block read so far (kind, size and checksum of each,
+    // so of every byte of the trace): once the END block is read, the
+    // identity of the trace's content, whether it came from a file or a pipe.
+    std::uint64_t content_hash() const { return content_; }
 
     struct Source;
 
@@ -176,6 +183,7 @@ private:
     std::uint64_t payload_at_ = 0;  // its offset in the file
     std::uint32_t left_ = 0;  // groups of it not yet read
     std::uint64_t blocks_ = 0, groups_read_ = 0, total_ = 0;
+    std::uint64_t content_ = 0xcbf29ce484222325ull;
     bool total_known_ = false, ended_ = false;
 };
 

@@ -119,6 +119,9 @@ Animation animation_from_params(const ParamSet& p, const Scene& still);
 // frame 0's file of animation.mesh_sequence, or the built-in wave; nullopt
 // when they give none. `mesh_override` is --mesh (refused with either).
 std::optional<Mesh> animation_still_mesh(const ParamSet& p, const std::string& mesh_override);
+// The OBJ files of animation.mesh_sequence, one per frame, found as `mesh`
+// is (InputError when one is missing); none without a sequence.
+std::vector<std::string> animation_mesh_files(const ParamSet& p);
 
 // Writes what the animation resolved by itself into `p` (the frame count and
 // rate, the orbit's values, the built-in animation's keys), so that p.dump()

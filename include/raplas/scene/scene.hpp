@@ -82,6 +82,12 @@ void resolve_scene_params(ParamSet& p, const Scene& s, const std::string& mesh_o
 // Same, from a ParamSet already loaded and overridden.
 Scene scene_from_params(const ParamSet& p, const std::string& mesh_override);
 
+// The mesh files a scene's parameters resolve to (the --mesh file, the
+// scene's mesh, every file of its mesh sequence), as they are found when the
+// scene is loaded; none for the built-in scene. What a result records and
+// a run must never write over.
+std::vector<std::string> scene_mesh_files(const ParamSet& p, const std::string& mesh_override);
+
 // Automatic framing and lighting from the mesh bounds.
 // (Framing uses the bounds of the mesh as loaded, before any floor is added.)
 // The camera of a scene that gives none: looking at the centre of the first

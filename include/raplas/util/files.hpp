@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <string_view>
 
@@ -23,6 +24,8 @@ inline std::uint64_t fnv1a64(std::string_view bytes, std::uint64_t h = 0xcbf29ce
 std::string hex64(std::uint64_t h);
 std::string file_hash(const std::string& path);
 std::string absolute_path(const std::string& path);  // absolute and normalised
+// Removes the files of folder `dir` whose names `which` accepts; returns how many.
+std::size_t remove_files(const std::string& dir, const std::function<bool(const std::string& name)>& which);
 // The running executable's folder with a trailing '/' ("" when unknown).
 std::string executable_dir();
 
