@@ -231,6 +231,11 @@ const WorkloadKey kWorkloadKeys[3] = {
     {"workload.triangles_per_sphere", "spheres.triangles_per_sphere", "triangles per sphere"},
 };
 
+bool result_neutral_key(const std::string& key) {
+    return key == "sim.mode" || key == "sim.functional" || key == "sim.sync_cycles" || key == "sim.watchdog_cycles" ||
+           key == "sim.cull";
+}
+
 std::string inert_config_key(const ParamSet& p, const std::string& key) {
     const std::string estimate = p.get_string("sim.estimate"), system = p.get_string("memory.system");
     if ((key == "sim.sample_fraction" || key == "sim.sample_seed") && estimate != "sample_passes")

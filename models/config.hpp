@@ -12,6 +12,7 @@
 namespace raplas::model {
 
 enum class SimMode { cycle, event };
+inline const char* sim_mode_name(SimMode m) { return m == SimMode::event ? "event" : "cycle"; }
 enum class Estimate { exact, sample_passes, fifo_bound };
 
 // The memory system (paper Figure 5, §5.2; docs/MODEL.md §6): the streaming
@@ -80,6 +81,13 @@ std::string inert_scene_key(const ParamSet& p, const std::string& key);
 // set to the values the workload has: what a result reports.
 void resolve_workload(ParamSet& p, std::uint32_t group_size, std::uint32_t shadow_group_size,
                       std::uint32_t triangles_per_sphere);
+// Keys that choose how a result is computed, not what it is: the engine
+// (sim.mode), the functional check (sim.functional), kernel time updates, the
+// watchdog and the compute mode's culling. config_hash leaves them out, so a
+// run of another engine with equal figures has the same hash; the engine is
+// a result column of its own (docs/SWEEPS.md, "Provenance").
+bool result_neutral_key(const std::string& key);
+
 // The scene key each workload key overrides (groups.size for
 // workload.group_size, ...).
 struct WorkloadKey {

@@ -71,7 +71,10 @@ def json_diff(a, b, skip=frozenset(), path=""):
 
 # What a result says about where it comes from (docs/SWEEPS.md, "Provenance"):
 # two runs of different configs differ here by design; provenance_diff checks it.
-PROVENANCE = frozenset({"overrides", "config_hash", "resolved_config"})
+PROVENANCE = frozenset({"overrides", "config_hash", "resolved_config", "engine"})
+# Keys that choose how a result is computed, not what it is: config_hash leaves
+# them out (model::result_neutral_key), so runs that differ only in them have one hash.
+RESULT_NEUTRAL = frozenset({"sim.mode", "sim.functional", "sim.sync_cycles", "sim.watchdog_cycles", "sim.cull"})
 
 
 def provenance_diff(a, b, varied):
@@ -84,8 +87,10 @@ def provenance_diff(a, b, varied):
     differ = {k for k in set(ra) | set(rb) if ra.get(k) != rb.get(k)}
     d = [f"resolved_config: {k} differs ({ra.get(k)!r} != {rb.get(k)!r})" for k in sorted(differ - set(varied))]
     d += [f"resolved_config: {k} is the same in both runs" for k in sorted(set(varied) - differ)]
-    if (a["config_hash"] != b["config_hash"]) != bool(differ):
-        d.append(f"config_hash {a['config_hash']} vs {b['config_hash']} for {len(differ)} differing keys")
+    counted = differ - RESULT_NEUTRAL
+    if (a["config_hash"] != b["config_hash"]) != bool(counted):
+        d.append(f"config_hash {a['config_hash']} vs {b['config_hash']} for {len(counted)} differing keys "
+                 "that config_hash covers")
     if a["workload_hash"] != b["workload_hash"]:
         d.append(f"workload_hash {a['workload_hash']} != {b['workload_hash']}")
     for k in differ:

@@ -388,7 +388,11 @@ std::string integer_meant(const std::string& t) {
 std::string count_problem(const std::string& item, const std::string& shown, std::uint32_t max) {
     if (!integer_text(item)) {
         const std::string meant = integer_meant(item);
-        return shown + " is not an integer" + (meant.empty() ? "" : "; write " + meant);
+        if (meant.empty()) return shown + " is not an integer";
+        const double v = std::strtod(meant.c_str(), nullptr);
+        if (v < 1 || v > max)  // the number meant is out of range too: say so rather than suggest it
+            return shown + " is not an integer, and " + meant + " is not in 1.." + std::to_string(max);
+        return shown + " is not an integer; write " + meant;
     }
     errno = 0;
     const long long v = std::strtoll(item.c_str(), nullptr, 10);

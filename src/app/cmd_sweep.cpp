@@ -94,6 +94,9 @@ struct Sweep {
     std::string point_csv(std::size_t i) const { return wd + "/point-" + std::to_string(i) + ".csv"; }
     std::string point_log(std::size_t i) const { return wd + "/point-" + std::to_string(i) + ".log"; }
     std::string failed_csv(std::size_t i) const { return wd + "/point-" + std::to_string(i) + ".failed.csv"; }
+    // Written when point i's run failed: "input" or "internal", then why. The
+    // point has no result until --retry-failed simulates it again.
+    std::string failed_mark(std::size_t i) const { return wd + "/point-" + std::to_string(i) + ".failed"; }
 
     std::vector<std::string> trace_argv(std::size_t s) const {
         std::vector<std::string> v{"trace"};
@@ -329,6 +332,7 @@ Sweep make_sweep(const SweepArgs& a, const std::string& wd) {
             continue;
         }
         if (in.kind == "scene") in.path = find_scene_file(in.path);
+        if (in.kind == "mesh") check_mesh_option(in.path);
         if (!is_file(in.path)) throw InputError(in.path + ": no such file");
         if (in.kind == "scene") {
             ParamSet check = scene_params();
@@ -620,11 +624,34 @@ int run_sweep(const Sweep& sw, const SweepArgs& a) {
 
     enum class St { pending, running, done, failed };
     std::vector<St> point(n, St::pending), trace(ns, St::done);
-    for (std::size_t i = 0; i < n; ++i)
-        if (results.load(i)) {
+    // A point that failed in an earlier run stays failed (the sweep exits
+    // non-zero and names it) until --retry-failed simulates it again; a row
+    // whose nearest hits differ from the front end's is such a failure too.
+    std::vector<std::size_t> failed_before;
+    bool input_before = false, internal_before = false;
+    auto mark_failed = [&](std::size_t i, bool input, const std::string& why) {
+        if (is_file(sw.point_csv(i))) std::rename(sw.point_csv(i).c_str(), sw.failed_csv(i).c_str());
+        write_file_atomically(sw.failed_mark(i), std::string(input ? "input" : "internal") + "\n" + why + "\n");
+    };
+    for (std::size_t i = 0; i < n; ++i) {
+        if (results.load(i) && results.mismatched(i)) {
+            results.forget(i);
+            mark_failed(i, false, "functional mismatch (functional_match = false)");
+        }
+        if (is_file(sw.failed_mark(i))) {
+            if (a.retry_failed) {
+                ::unlink(sw.failed_mark(i).c_str());
+                ::unlink(sw.failed_csv(i).c_str());
+                continue;
+            }
+            point[i] = St::failed;
+            failed_before.push_back(i);
+            (read_file(sw.failed_mark(i)).rfind("input", 0) == 0 ? input_before : internal_before) = true;
+        } else if (results.has(i)) {
             point[i] = St::done;
             ::unlink(sw.point_log(i).c_str());
         }
+    }
     write_out(out, results, sw.layout, dv);
 
     Progress pr(a.progress || (::isatty(2) && !a.quiet), ::isatty(2));
@@ -638,7 +665,8 @@ int run_sweep(const Sweep& sw, const SweepArgs& a) {
             ++pr.traces_total;
         }
     }
-    pr.to_run = n - pr.done;
+    pr.failed = failed_before.size();
+    pr.to_run = n - pr.done - pr.failed;
     const std::size_t already = pr.done;
     const unsigned jobs = a.jobs ? a.jobs : core_count();
 
@@ -721,11 +749,12 @@ int run_sweep(const Sweep& sw, const SweepArgs& a) {
         } else {
             // A point whose run failed has no result, even when it wrote its
             // row (a functional mismatch does): the row is kept beside it for
-            // a look, and the next run of the sweep simulates the point again.
+            // a look, and the point stays failed until --retry-failed.
             std::string kept;
-            if (!ok && is_file(sw.point_csv(c.index))) {
-                kept = sw.failed_csv(c.index);
-                std::rename(sw.point_csv(c.index).c_str(), kept.c_str());
+            if (!ok) {
+                if (is_file(sw.point_csv(c.index))) kept = sw.failed_csv(c.index);
+                const std::string line = last_line(c.log);
+                mark_failed(c.index, input, why + (line.empty() ? "" : ": " + line));
             }
             const bool have = ok && results.load(c.index);
             ++pr.run_done;
@@ -756,14 +785,22 @@ int run_sweep(const Sweep& sw, const SweepArgs& a) {
                     pr.run_done, already, pr.failed, wall, out.c_str());
         std::fflush(stdout);
     }
-    if (input_failure || internal_failure) {
+    for (std::size_t k = 0; k < failed_before.size() && k < 5; ++k) {
+        const std::size_t i = failed_before[k];
+        std::string why = read_file(sw.failed_mark(i));
+        why = why.substr(why.find('\n') + 1);
+        while (!why.empty() && why.back() == '\n') why.pop_back();
+        std::fprintf(stderr, "raplas: %s failed in an earlier run (%s)\n", sw.describe(i).c_str(), why.c_str());
+    }
+    if (failed_before.size() > 5) std::fprintf(stderr, "raplas: ... and %zu more\n", failed_before.size() - 5);
+    if (input_failure || internal_failure || !failed_before.empty()) {
         if (!a.check.empty()) reference_tables(table, a, refs, sw.layout, false);
         std::fprintf(stderr,
-                     "raplas: error: %zu of %zu points failed; %s holds %zu rows; run the same command again to retry "
-                     "the points without a result%s\n",
+                     "raplas: error: %zu of %zu points failed; %s holds %zu rows; give --retry-failed to simulate "
+                     "the failed points again (a plain rerun simulates only the points never run)%s\n",
                      pr.failed, n, out.c_str(), results.count(),
                      a.update.empty() ? "" : (" (" + a.update + " not updated)").c_str());
-        return internal_failure ? kExitInternalError : kExitInputError;
+        return internal_failure || internal_before ? kExitInternalError : kExitInputError;
     }
     return reference_tables(table, a, refs, sw.layout);
 }
@@ -783,12 +820,11 @@ int emit_jobs(const Sweep& sw, const SweepArgs& a) {
         if (!sw.traces[s].animated) traces += line(sw.trace_file(s), sw.trace_argv(s)), ++trace_jobs;
     for (std::size_t i = 0; i < sw.points(); ++i) {
         // A failed point leaves no result (its row, if written, moves aside), so that a rerun retries it.
-        std::string l = line(sw.point_csv(i), sw.point_argv(i));
-        const std::string end = "; }\n";
-        l.replace(l.size() - end.size(), end.size(),
-                  " || { mv -f " + shell_quote(sw.point_csv(i)) + " " + shell_quote(sw.failed_csv(i)) +
-                      " 2>/dev/null; false; }; }\n");
-        points += l;
+        const std::string p = shell_quote(sw.point_csv(i)), f = shell_quote(sw.failed_csv(i)),
+                          m = shell_quote(sw.failed_mark(i));
+        points += cd + "{ test -f " + p + " || { rm -f " + m + " " + f + "; " + shell_quote(exe) + " " +
+                  shell_join(sw.point_argv(i)) + "; } || { mv -f " + p + " " + f + " 2>/dev/null; echo internal > " + m +
+                  "; false; }; }\n";
     }
     const std::string traces_file = a.emit_jobs + ".traces";
     write_file_atomically(traces_file, traces);
@@ -815,10 +851,25 @@ int merge(const std::string& wd, const SweepArgs& a, const Sweep* sw) {
     const References refs = references_of(a, layout);
     const std::size_t n = spec["points"].get<std::size_t>();
     Results results(wd, n);
-    std::vector<std::size_t> missing;
-    for (std::size_t i = 0; i < n; ++i)
-        if (!results.load(i)) missing.push_back(i);
+    std::vector<std::size_t> missing, failed;
+    for (std::size_t i = 0; i < n; ++i) {
+        const bool have = results.load(i);
+        if (have && results.mismatched(i)) results.forget(i);
+        if (!results.has(i)) (have || is_file(wd + "/point-" + std::to_string(i) + ".failed") ? failed : missing).push_back(i);
+    }
     const CsvTable table = write_out(a.out, results, layout, dv);
+    if (!failed.empty()) {
+        std::string list;
+        for (std::size_t k = 0; k < failed.size() && k < 5; ++k) list += (k ? ", " : "") + std::to_string(failed[k]);
+        if (failed.size() > 5) list += ", ...";
+        if (!a.check.empty()) reference_tables(table, a, refs, layout, false);
+        std::fprintf(stderr,
+                     "raplas: error: %s: %zu of %zu points failed (points %s: point-N.failed and point-N.log say "
+                     "why); %s holds the %zu finished ones%s\n",
+                     wd.c_str(), failed.size(), n, list.c_str(), a.out.c_str(), results.count(),
+                     a.update.empty() ? "" : (" (" + a.update + " not updated)").c_str());
+        return kExitInternalError;
+    }
     if (!missing.empty()) {
         std::string list;
         for (std::size_t k = 0; k < missing.size() && k < 5; ++k)
@@ -866,6 +917,9 @@ void add_sweep_options(CLI::App* cmd, SweepArgs& a) {
                     "write the commands to FILE.traces and FILE (one per line, for GNU parallel or a Slurm array) "
                     "instead of running them");
     cmd->add_flag("--merge", a.merge, "gather the work dir's point results into --out and exit");
+    cmd->add_flag("--retry-failed", a.retry_failed,
+                  "simulate again the points that failed in an earlier run (without it they stay failed: the sweep "
+                  "exits non-zero and names them)");
     cmd->add_flag("--fresh", a.fresh,
                   "when the work dir holds a sweep made from other inputs (scene, mesh or config files, keys, "
                   "points, or another build of raplas), recompute the points that changes instead of refusing");

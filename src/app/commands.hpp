@@ -85,6 +85,7 @@ struct SweepArgs {
     unsigned jobs = 0;                      // 0: number of cores
     bool merge = false, progress = false, quiet = false;
     bool fresh = false;                     // --fresh: recompute the points whose inputs changed
+    bool retry_failed = false;              // --retry-failed: simulate the points that failed before again
     const CLI::App* cmd = nullptr;          // gives the order of --scene and --mesh
     std::string command_line;               // as typed (the --update header)
 };

@@ -110,6 +110,7 @@ const std::vector<std::pair<const char*, const char*>>& columns() {
         {"blocked_undecided", "/icc_totals/blocked_undecided"},
         {"blocked_sphere_fifo_full", "/icc_totals/blocked_sphere_fifo_full"},
         {"max_triangle_fifo_occupancy", "/icc_totals/max_triangle_fifo_occupancy"},
+        {"functional_checked", "/functional_checked"},
         {"functional_match", "/functional_match"},
         {"memory_system", "/memory/system"},
         {"area", "/area/total"},
@@ -118,6 +119,7 @@ const std::vector<std::pair<const char*, const char*>>& columns() {
         {"triangle_records_read", "/memory/triangle_records_read"},
         {"memory_bound_cycles", "/memory/memory_bound_cycles"},
         {"pe_bound_cycles", "/memory/pe_bound_cycles"},
+        {"engine", "/engine"},
         {"estimate", "/estimate/mode"},  // "exact" when the JSON has no estimate block
         {"config_hash", "/config_hash"},
         {"workload_hash", "/workload_hash"},
@@ -162,7 +164,7 @@ std::string config_hash(ParamSet resolved) {
     model::resolve_numerics(resolved);
     std::string canonical;
     for (const std::string& k : resolved.keys())
-        if (k != "name") canonical += k + "=" + resolved.value_text(k) + "\n";
+        if (k != "name" && !model::result_neutral_key(k)) canonical += k + "=" + resolved.value_text(k) + "\n";
     return hex64(fnv1a64(canonical));
 }
 
@@ -215,6 +217,7 @@ nlohmann::json sim_json(const SimReportInput& in) {
     j["rdf_empty_cycles"] = c.icc.fetcher.empty_cycles;
     j["overlap_passes"] = c.overlap_passes;
     j["clock_mhz"] = c.clock_mhz;
+    j["engine"] = model::sim_mode_name(c.mode);
     j["total_cycles"] = r.total_cycles;
     if (r.lower_bound)
         j["estimate"] = {{"mode", "fifo_bound"},

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "config.hpp"
 #include "raplas/app/sim_report.hpp"
 #include "raplas/util/error.hpp"
 #include "raplas/util/files.hpp"
@@ -48,6 +49,16 @@ bool Results::load(std::size_t i) {
     }
     rows_[i] = std::move(t.rows[0]);
     return true;
+}
+
+bool Results::mismatched(std::size_t i) const {
+    if (!rows_[i]) return false;
+    auto cell = [&](const char* name) -> std::string {
+        for (std::size_t c = 0; c < header_.size() && c < rows_[i]->size(); ++c)
+            if (header_[c] == name) return (*rows_[i])[c];
+        return "";
+    };
+    return cell("functional_checked") == "true" && cell("functional_match") == "false";
 }
 
 std::size_t Results::count() const {
@@ -245,6 +256,29 @@ CsvTable load_reference(const std::string& ref_path, const Layout& l) {
     return ref;
 }
 
+namespace {
+
+// What --check compares of a cell: the engine that computed a row is no
+// statistic, and neither are the result-neutral keys among its overrides
+// (model::result_neutral_key: sim.mode, ...), so a table of one engine checks
+// against another's when every figure is equal.
+std::string checked_cell(const std::string& column, const std::string& cell) {
+    if (column == "engine") return "";
+    if (column != "overrides") return cell;
+    std::string kept;
+    std::size_t start = 0;
+    while (start <= cell.size()) {
+        const std::size_t end = std::min(cell.find(';', start), cell.size());
+        const std::string item = cell.substr(start, end - start);
+        if (!item.empty() && !model::result_neutral_key(item.substr(0, item.find('='))))
+            kept += (kept.empty() ? "" : ";") + item;
+        start = end + 1;
+    }
+    return kept;
+}
+
+}  // namespace
+
 std::size_t check_reference(const CsvTable& got, const CsvTable& ref, const std::string& ref_path, const Layout& l,
                             const std::map<std::string, double>& tol, bool quiet) {
     const auto keys = key_columns(l);
@@ -268,7 +302,7 @@ std::size_t check_reference(const CsvTable& got, const CsvTable& ref, const std:
             if (!rc) continue;
             const std::string& a = got.rows[gr][c];
             const std::string& b = ref.rows[it->second][*rc];
-            if (a == b) continue;
+            if (a == b || checked_cell(got.header[c], a) == checked_cell(got.header[c], b)) continue;
             std::string delta;
             char* ea = nullptr;
             char* eb = nullptr;

@@ -78,6 +78,10 @@ public:
     // Reads point i's CSV if it exists; returns whether it does.
     bool load(std::size_t i);
     bool has(std::size_t i) const { return rows_[i].has_value(); }
+    void forget(std::size_t i) { rows_[i].reset(); }
+    // Point i's row says its nearest hits were checked and differ from the
+    // front end's (functional_checked true, functional_match false).
+    bool mismatched(std::size_t i) const;
     std::size_t count() const;
     // The points' columns (raplas simulate --csv when no point has a result yet).
     const std::vector<std::string>& header() const;

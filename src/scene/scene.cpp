@@ -1,9 +1,11 @@
 #include "raplas/scene/scene.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 
 #include "raplas/scene/animation.hpp"
 #include "raplas/util/data_dir.hpp"
@@ -48,7 +50,26 @@ ParamSet scene_params() {
     return p;
 }
 
+namespace {
+
+bool ends_with_ci(const std::string& s, const std::string& tail) {
+    if (s.size() < tail.size()) return false;
+    for (std::size_t i = 0; i < tail.size(); ++i)
+        if (std::tolower(static_cast<unsigned char>(s[s.size() - tail.size() + i])) != tail[i]) return false;
+    return true;
+}
+
+}  // namespace
+
+void check_mesh_option(const std::string& path) {
+    if (ends_with_ci(path, ".toml"))
+        throw InputError("--mesh " + path + ": a scene file (TOML), not an OBJ mesh; give it with --scene " + path);
+}
+
 std::string find_scene_file(const std::string& name) {
+    if (ends_with_ci(name, ".obj"))
+        throw InputError("--scene " + name + ": an OBJ mesh, not a scene file; give it with --mesh " + name +
+                         ", or name it in a scene file (mesh = \"" + name + "\")");
     return find_named_file(name, {"scene", "scenes", "scene files", "raplas render --dump-scene"});
 }
 
@@ -70,7 +91,15 @@ std::vector<std::string> scene_search_path(const std::string& scene_dir) {
     dirs.push_back("../shared/scenes");
     if (!scene_dir.empty()) dirs.push_back(scene_dir + "/../../shared/scenes");
     dirs.push_back(std::string(RAPLAS_SOURCE_DIR) + "/../shared/scenes");
-    return dirs;
+    // Each folder once (a scene in the working directory has "." as its folder too).
+    std::vector<std::string> once;
+    for (const auto& d : dirs) {
+        const std::string norm = std::filesystem::path(d).lexically_normal().string();
+        bool seen = false;
+        for (const auto& o : once) seen = seen || std::filesystem::path(o).lexically_normal().string() == norm;
+        if (!seen) once.push_back(d);
+    }
+    return once;
 }
 
 std::string resolve_mesh_path(const std::string& mesh, const std::string& scene_dir) {
@@ -198,6 +227,7 @@ Scene scene_from_params(const ParamSet& p, const std::string& mesh_override) {
         s.mesh = std::move(*animated_mesh);
         if (wave && !p.is_given("name")) s.name = "wave";
     } else if (!mesh_override.empty()) {
+        check_mesh_option(mesh_override);
         s.mesh = load_obj(mesh_override);
         if (!p.is_given("name")) {
             std::string base = mesh_override.substr(mesh_override.find_last_of('/') + 1);

@@ -58,6 +58,8 @@ ParamSet scene_params();
 // folder or the source tree (raplas/util/data_dir.hpp). InputError when none
 // is, listing the shipped scenes and the nearest names.
 std::string find_scene_file(const std::string& name);
+// InputError when the file given to --mesh is plainly a scene file (a .toml).
+void check_mesh_option(const std::string& path);
 
 // Where relative mesh paths are looked up after the scene file's directory:
 // the working directory, $RAPLAS_SCENE_PATH (colon-separated),
