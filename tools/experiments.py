@@ -1226,7 +1226,7 @@ def readings(c):
                      f"{ok}/{n_marked}" if n_marked else "–"])
     condensed = md_table(["combination", f"F8: FIFO {F}, efficiency at {K} ICCs",
                           f"F8: FIFO {'/'.join(map(str, small))} flat", "F9: first win", "F10: crossover",
-                          "T5: 1 ICC vs passes x T", f"T5: {M}-ICC speedup", "✓ cells"], cond)
+                          "T5: 1 ICC vs passes x T", f"T5: {M}-ICC speedup", "✓ cells" if n_marked else "marks"], cond)
     names = ", ".join(f"{short[s.key]} = {s.label}" for s in ins if short[s.key] != s.label)
     if n_marked:
         best = max(x for x in scores if x[1] != "both_vs_any_baselines")
