@@ -103,6 +103,16 @@ with tempfile.TemporaryDirectory() as tmp:
     ticks = j["panels"][0]["xticks"] if j else []
     check([t[1] for t in ticks] == ["1", "4", "16"], f"--x iccs --logx (1, 4, 16): ticks {[t[1] for t in ticks]}")
 
+    # The area's unit follows the rows' area.model (the blocks model's slice-equivalents by default).
+    pe = os.path.join(tmp, "pe.csv")
+    with open(rti) as f, open(pe, "w") as g:
+        for r in f:
+            g.write(r.replace("paper,1,,", "paper,1,area.model=pe_units,").replace("paper,2,,", "paper,2,area.model=pe_units,"))
+    for path, unit in ((rti, "slice-equivalents x cycles"), (pe, "PE units x cycles")):
+        p, j = plot(tmp, "unit", [path, "--x", "icc.rti_pipes", "--y", "area_time", "--where", "iccs=2"])
+        lab = flat(j["panels"][0]["ylabel"]) if j else ""
+        check(unit in lab, f"--y area_time of {os.path.basename(path)}: '{lab}'")
+
     # Speedup and efficiency name their base; --base-iccs and --base-fifo recompute them.
     g = [r for r in golden_rows() if r["variant"] == "streaming"]
     cyc = {(int(r["iccs"]), int(r["fifo_depth"])): int(r["total_cycles"]) for r in g}

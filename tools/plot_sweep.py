@@ -78,8 +78,6 @@ LABELS = {
     "time_ms": "time at the clock (ms)",
     "passes": "passes",
     "ray_groups": "ray groups",
-    "area": "area (slice-equivalents, or PE units under area.model = pe_units; docs/MODEL.md §6)",
-    "area_time": "area x time (area x cycles)",
     "rti_utilisation": "RTI utilisation (fraction of active cycles)",
     "triangle_link_avg_gbps": "Triangle Stream Link, average (GB/s)",
     "triangle_link_stall_cycles": "Triangle Stream Link stall cycles",
@@ -99,8 +97,26 @@ def no_column(opt, col, path, cols, extra=""):
     fail(f"{opt} {col}: no such column in {path}{extra}{hint}")
 
 
-def label(col):
+def label(col, rows=()):
+    if col in ("area", "area_time"):
+        return area_label(col, rows)
     return LABELS.get(col, col)
+
+
+def area_label(col, rows):
+    """The area's unit, from the rows' overrides: the paper's PE units (area.model = pe_units) or
+    the blocks model's slice-equivalents (the default; docs/MODEL.md §6)."""
+    pe = [("area.model=pe_units" in r.get("overrides", "")) for r in rows] if rows and "overrides" in rows[0] else []
+    if pe and all(pe):
+        unit = "PE units, area.model = pe_units"
+    elif pe and not any(pe):
+        unit = "slice-equivalents, area.model = blocks"
+    else:
+        unit = "area units of each row's area.model"
+    unit_short = unit.split(",")[0]
+    if col == "area":
+        return f"area ({unit}; docs/MODEL.md §6)"
+    return f"area x time ({unit_short} x cycles)"
 
 
 def number(text, col, line):
@@ -358,7 +374,7 @@ def main():
         if not kept:
             fail(f"--where {w}: no row has it")
     # Derived columns of the kept rows; their base or reference may be a row --where left out.
-    ylabel = label(a.y)
+    ylabel = label(a.y, kept)
     if a.y in DERIVED:
         base = rebase(header, rows, kept, a, a.csv) if rebased else sweep_base(header, kept)
         ylabel = ("speedup (x) over " if a.y == "speedup" else "efficiency (speedup per ICC) over ") + base
@@ -409,7 +425,7 @@ def main():
                 ax.plot([lo, hi], [lo / base_k, hi / base_k], "k--", linewidth=0.8, label="ideal")
             else:
                 ax.axhline(1.0, color="k", linestyle="--", linewidth=0.8, label="ideal")
-        ax.set_xlabel(label(a.x))
+        ax.set_xlabel(label(a.x, rows))
         if ax is axes[0][0]:
             ax.set_ylabel(textwrap.fill(ylabel, 48))
         if a.logx:
