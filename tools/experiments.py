@@ -300,7 +300,12 @@ def log(msg):
     print(f"experiments: {msg}", file=sys.stderr, flush=True)
 
 
+REPLOT = False  # --replot: tables and plots from the sweeps already made, nothing run
+
+
 def run(cmd, **kw):
+    if REPLOT:
+        sys.exit(f"experiments: --replot: this experiment needs a run that was not made: {' '.join(cmd)}")
     log(" ".join(cmd))
     p = subprocess.run(cmd, **kw)
     if p.returncode != 0:
@@ -369,6 +374,8 @@ def icc_axis(ax, ks, logscale=False, axis="x"):
     a = ax.xaxis if axis == "x" else ax.yaxis
     ks = sorted(set(ks))
     if logscale:
+        if len(ks) > 8:  # every other value (1, 4, 16, ... of the powers of 2), so that labels do not collide
+            ks = ks[::2]
         a.set_major_locator(FixedLocator(ks))
         a.set_minor_locator(NullLocator())
     elif ks[-1] >= 32 and ks[-1] % 16 == 0:
@@ -453,6 +460,11 @@ class Ctx:
         out = os.path.join(self.work, name + ".csv")
         wd = out + ".d"
         sets = list(sets) + TRACE_MODE + PAPER_AREA + self.size_sets(size, inputs)
+        if REPLOT:  # the copy in OUT/sweeps, or a raw sweep's CSV in the work dir
+            out = out if raw else os.path.join(a.out, "sweeps", name + ".csv")
+            if not os.path.isfile(out):
+                sys.exit(f"experiments: --replot: {out} is missing (run the experiment without --replot)")
+            return self.rows(out, inputs, iccs, fifos)
         cmd = [a.raplas, "sweep"]
         for s in inputs:
             cmd += s.args()
@@ -485,8 +497,12 @@ class Ctx:
                 os.link(mine, cached(s))
         if not raw:
             shutil.copyfile(out, os.path.join(a.out, "sweeps", name + ".csv"))
-        # Rows come in point order, inputs outermost (docs/SWEEPS.md): the input of a row is
-        # its block, so that two scenes of one name stay apart.
+        return self.rows(out, inputs, iccs, fifos)
+
+    @staticmethod
+    def rows(out, inputs, iccs, fifos):
+        """A sweep's rows, keyed (scene key, iccs, fifo). Rows come in point order, inputs outermost
+        (docs/SWEEPS.md): the input of a row is its block, so that two scenes of one name stay apart."""
         rows = read_csv(out)
         per = len(iccs) * max(1, len(fifos))
         if len(rows) != per * len(inputs):
@@ -754,6 +770,8 @@ def table5(c):
         cpu = json.load(open(shared_cpu))
         if not all(s.key in cpu for s in c.inputs):
             cpu = None
+    if cpu is None and REPLOT and os.path.exists(shared_cpu):
+        cpu = json.load(open(shared_cpu))
     if cpu is None:
         cpu = cpu_times(c)
     rows = []
@@ -1665,6 +1683,9 @@ def main():
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="simulations at a time")
     ap.add_argument("--cpu-runs", type=int, help="Table 5: CPU runs per scene (default 3; --quick: 1)")
     ap.add_argument("--clean", action="store_true", help="remove the work folder first: everything from scratch")
+    ap.add_argument("--replot", action="store_true",
+                    help="only the tables and plots, from the sweeps in OUT/sweeps (and the work folder): "
+                         "nothing simulated")
     a = ap.parse_args()
     # Everything is checked before any work: one line and exit 2 for each bad input.
     a.out = os.path.abspath(a.out)
@@ -1710,7 +1731,11 @@ def main():
     a.work = os.path.abspath(a.work)
     if os.path.exists(a.work) and not os.path.isdir(a.work):
         bad(f"--work {a.work}: not a directory")
+    if a.replot and a.clean:
+        bad("--replot reads the work folder that --clean would remove")
     need_matplotlib()
+    global REPLOT
+    REPLOT = a.replot
     if a.clean and os.path.isdir(a.work):
         shutil.rmtree(a.work)
     try:
