@@ -139,6 +139,8 @@ class Plan:
         self.kmax = max(self.iccs)
         # The middle ICC count of the paper's comparisons (16 of 1..48: Table 5, "48 against 16").
         self.kmid = 16 if 16 in self.iccs and 16 < self.kmax else sorted(self.iccs)[-2]
+        # Table 5's ICC count beside 1: the paper's 16, else the largest.
+        self.t5_k = 16 if 16 in self.iccs else self.kmax
         self.fbig = max(self.fifos)  # "FIFO 1000"
         self.beyond_iccs = [k for k in self.beyond_iccs if k > self.kmax]
         self.readings_beyond = [k for k in self.readings_beyond if k > self.kmax]
@@ -162,7 +164,12 @@ class Input:
 
     def digest(self):
         """A hash of the files the scene is made of (the scene file and the mesh it names), so that a
-        cached trace is never taken for a scene whose files changed."""
+        cached trace is never taken for a scene whose files changed (computed once a run)."""
+        if getattr(self, "_digest", None) is None:
+            self._digest = self._hash()
+        return self._digest
+
+    def _hash(self):
         h = hashlib.sha1(self.kind.encode() + b"\0" + self.path.encode() + b"\0")
         for f in [self.path] + ([mesh_of(self.path)] if self.kind == "scene" else []):
             if f and os.path.isfile(f):
@@ -760,7 +767,7 @@ def cpu_times(c):
 
 
 def table5(c):
-    p, K = c.plan, c.plan.kmid
+    p, K = c.plan, c.plan.t5_k
     F = p.fbig
     st = c.streaming()
     # The CPU side does not depend on the reading: measured once, with the default.
@@ -1160,7 +1167,7 @@ def reading_rows(c, name, sets, sphere_fixed, baseline_reading=None):
         r["fig9_ratios"] = a9
         one = st[(s, 1, F)]
         r["t5_cycles_over_passes_t"] = one["total_cycles"] / (one["passes"] * one["triangles"])
-        r[f"t5_speedup{p.kmid}"] = one["total_cycles"] / st[(s, p.kmid, F)]["total_cycles"]
+        r[f"t5_speedup{p.t5_k}"] = one["total_cycles"] / st[(s, p.t5_k, F)]["total_cycles"]
         r["triangles_kept_per_group"] = sh[(s, 1, F)]["triangle_records_read"] / one["ray_groups"]
         out[s] = r
     return out
@@ -1169,7 +1176,7 @@ def reading_rows(c, name, sets, sphere_fixed, baseline_reading=None):
 def readings(c):
     """The fit table: rows = combinations of the open choices, columns = the paper's results. Marks
     against the paper only for its scenes on its grid; other scenes get their figures alone."""
-    p, F, K, M = c.plan, c.plan.fbig, c.plan.kmax, c.plan.kmid
+    p, F, K, M, T = c.plan, c.plan.fbig, c.plan.kmax, c.plan.kmid, c.plan.t5_k
     small = [f for f in p.fifos if f != F]
     ins = c.inputs
     rows, table, scores = [], [], []
@@ -1204,7 +1211,7 @@ def readings(c):
             x = data[s.key]["t5_cycles_over_passes_t"] - 1
             cells.append(f"{100 * x:+.1f} %{mk(s, 0 <= x <= 0.025)}")
         for s in ins:
-            v = data[s.key][f"t5_speedup{M}"]
+            v = data[s.key][f"t5_speedup{T}"]
             cells.append(f"{v:.2f}{mk(s, c.paper(s) and abs(v - PAPER_T5_SPEEDUP[s.paper]) <= 0.4)}")
         ok = sum(x.endswith("✓") for x in cells)
         scores.append((ok, name))
@@ -1220,7 +1227,7 @@ def readings(c):
     header = (["combination"] + [f"F8 FIFO {F} {short[s.key]}" for s in ins] +
               [f"F8 FIFO {f} {short[s.key]}: {K} ICCs ({K}/{M})" for f in small for s in ins] +
               [f"F9 first win {short[s.key]}" for s in ins] + [f"F10 crossover {short[s.key]}" for s in ins] +
-              [f"T5 1 ICC {short[s.key]}" for s in ins] + [f"T5 {M}-ICC speedup {short[s.key]}" for s in ins] +
+              [f"T5 1 ICC {short[s.key]}" for s in ins] + [f"T5 {T}-ICC speedup {short[s.key]}" for s in ins] +
               ["fit"])
     paper_row = [s.key for s in ins] == SCENES and p.is_paper
     paper = (["paper"] + [">90 %"] * 3 + ["flat"] * 6 + ["16"] * 3 + ["≤ 16", "≤ 16", "> 64"] +
@@ -1240,11 +1247,11 @@ def readings(c):
                      " / ".join(str(x["fig9_first_win"] or f"> {K}") for x in d),
                      " / ".join(f"{x['fig10_crossover']:.0f}" if x["fig10_crossover"] else "none" for x in d),
                      " / ".join(f"{100 * (x['t5_cycles_over_passes_t'] - 1):+.1f}" for x in d) + " %",
-                     " / ".join(f"{x[f't5_speedup{M}']:.2f}" for x in d),
+                     " / ".join(f"{x[f't5_speedup{T}']:.2f}" for x in d),
                      f"{ok}/{n_marked}" if n_marked else "–"])
     condensed = md_table(["combination", f"F8: FIFO {F}, efficiency at {K} ICCs",
                           f"F8: FIFO {'/'.join(map(str, small))} flat", "F9: first win", "F10: crossover",
-                          "T5: 1 ICC vs passes x T", f"T5: {M}-ICC speedup", "✓ cells" if n_marked else "marks"], cond)
+                          "T5: 1 ICC vs passes x T", f"T5: {T}-ICC speedup", "✓ cells" if n_marked else "marks"], cond)
     names = ", ".join(f"{short[s.key]} = {s.label}" for s in ins if short[s.key] != s.label)
     if n_marked:
         best = max(x for x in scores if x[1] != "both_vs_any_baselines")
@@ -1706,10 +1713,11 @@ def main():
                 bad(f"{s.path}: missing (the paper's scenes are shipped in scenes/)")
     size = None
     if a.size is not None:
-        size = int_list("--size", a.size, 1, 16384)
-        if len(size) != 1:
-            bad(f"--size {a.size}: one number (the image is N x N pixels)")
-        size = size[0]
+        if not re.fullmatch(r"\s*\d+\s*", a.size):
+            bad(f"--size {a.size}: not an integer (the image is N x N pixels)")
+        size = int(a.size)
+        if not 1 <= size <= 16384:
+            bad(f"--size {a.size}: out of range (1 to 16384)")
     iccs = int_list("--iccs", a.iccs, 1, MAX_ICCS) if a.iccs is not None else None
     if iccs is not None and (1 not in iccs or len(iccs) < 2):
         bad(f"--iccs {a.iccs}: give 1 and at least one more count (speedups are over one ICC)")
