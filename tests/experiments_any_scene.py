@@ -235,12 +235,16 @@ with tempfile.TemporaryDirectory() as tmp:
     os.mkdir(empty)
     afile = os.path.join(tmp, "a_file")
     open(afile, "w").close()
+    nomesh = os.path.join(tmp, "nomesh.toml")
+    with open(nomesh, "w") as fh:
+        fh.write('mesh = "no-such-mesh.obj"\n')
     cases = [
         (["fig8", "--mesh", mesh, "--out", os.path.join(tmp, "nodir")], "no such directory"),
         (["fig8", "--mesh", mesh, "--out", afile], "not a directory"),
         (["fig8", "--scene", mesh, "--out", empty], "give it as --mesh"),
         (["fig8", "--mesh", scene, "--out", empty], "give it as --scene"),
         (["fig8", "--mesh", os.path.join(tmp, "missing.obj"), "--out", empty], "missing.obj: no such file"),
+        (["fig8", "--scene", nomesh, "--out", empty], "mesh 'no-such-mesh.obj' not found"),
         (["sensitivity", "--mesh", mesh, "--out", empty], "runs on the shipped scenes"),
         (["fig8", "--mesh", mesh, "--out", empty, "--iccs", "2,4"], "give 1 and at least one more"),
         (["fig8", "--mesh", mesh, "--out", empty, "--iccs", "1,1e3"], "'1e3' is not an integer"),

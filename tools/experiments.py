@@ -45,6 +45,8 @@ the model's default get a suffix (fig8_both.png, ...).
 --quick runs every experiment small (16x16 pixels, 1, 2 and 4 ICCs, FIFO 10 and
 1000, small beyond, fifo and realtime grids; seconds on a small scene, as in CI);
 --size, --iccs and --fifos set the image and the grid of the paper's figures.
+--replot remakes the tables and plots from the sweeps already in DIR/sweeps (and
+the work folder) and simulates nothing.
 Table 5's and realtime's Embree times need build/bench/raplas_bench_frontend,
 which knows the paper's scenes only: without it, and for any other scene, those
 columns are left out with a note. Plots need Debian's python3-matplotlib.
@@ -1732,6 +1734,14 @@ def main():
     a.raplas = os.path.abspath(a.raplas)
     if not (os.path.isfile(a.raplas) and os.access(a.raplas, os.X_OK)):
         bad(f"--raplas {a.raplas}: no such executable (build it: tools/setup.sh)")
+    for s in inputs:  # the scene's own errors (a missing mesh, a bad key), as raplas words them
+        if s.paper:
+            continue
+        p = subprocess.run([a.raplas, "render"] + s.args() + ["--dump-scene"], stdout=subprocess.DEVNULL,
+                           stderr=subprocess.PIPE, text=True)
+        if p.returncode != 0:
+            why = (p.stderr.strip().splitlines() or [f"exit {p.returncode}"])[-1]
+            bad(f"--{s.kind} {s.path}: {why.removeprefix('raplas: error: ')}")
     a.bench = os.path.abspath(a.bench)
     if a.work is None:
         # Work files never go into the source tree: beside a build there, else beside the results.
