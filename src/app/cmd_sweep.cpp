@@ -82,6 +82,7 @@ struct Sweep {
     std::vector<TraceJob> traces;
     std::vector<std::size_t> trace_of;                  // per input x combo
     std::string wd;                                     // absolute
+    std::string trace_dir;                              // where the traces are (wd; --find shares one)
     json spec;
     bool animated = false;                              // some input is animated: rows get the frame columns
 
@@ -89,8 +90,8 @@ struct Sweep {
     std::size_t point_trace(std::size_t i) const {
         return trace_of[layout.input(i) * layout.combos() + layout.combo(i)];
     }
-    std::string trace_file(std::size_t s) const { return wd + "/trace-" + std::to_string(s) + ".trace"; }
-    std::string trace_log(std::size_t s) const { return wd + "/trace-" + std::to_string(s) + ".log"; }
+    std::string trace_file(std::size_t s) const { return trace_dir + "/trace-" + std::to_string(s) + ".trace"; }
+    std::string trace_log(std::size_t s) const { return trace_dir + "/trace-" + std::to_string(s) + ".log"; }
     std::string point_csv(std::size_t i) const { return wd + "/point-" + std::to_string(i) + ".csv"; }
     std::string point_log(std::size_t i) const { return wd + "/point-" + std::to_string(i) + ".log"; }
     std::string failed_csv(std::size_t i) const { return wd + "/point-" + std::to_string(i) + ".failed.csv"; }
@@ -224,6 +225,7 @@ Sweep make_sweep(const SweepArgs& a, const std::string& wd) {
     sw.layout.iccs = checked_list(a.iccs, "--iccs");
     sw.layout.fifo = checked_list(a.fifo, "--fifo");
     sw.wd = wd;
+    sw.trace_dir = wd;
 
     ParamSet mp = model::machine_params();
     json config_spec = nullptr;
@@ -614,7 +616,7 @@ struct Progress {
 // ---- modes ---------------------------------------------------------------------
 
 int run_sweep(const Sweep& sw, const SweepArgs& a) {
-    const Derived dv = derived_of(a.base_iccs, a.normalize, sw.layout);
+    const Derived dv = derived_of(a.base_iccs, a.normalize, sw.layout, a.base_fifo);
     const References refs = references_of(a, sw.layout);
     const auto lock = open_work_dir(sw, a.fresh);
     const std::string out = a.out;
@@ -847,7 +849,7 @@ int merge(const std::string& wd, const SweepArgs& a, const Sweep* sw) {
     const json spec = read_spec(wd);
     if (sw) check_same_sweep(spec, sw->spec, wd);
     const Layout layout = layout_of(spec, spec_path(wd));
-    const Derived dv = derived_of(a.base_iccs, a.normalize, layout);
+    const Derived dv = derived_of(a.base_iccs, a.normalize, layout, a.base_fifo);
     const References refs = references_of(a, layout);
     const std::size_t n = spec["points"].get<std::size_t>();
     Results results(wd, n);
@@ -884,6 +886,273 @@ int merge(const std::string& wd, const SweepArgs& a, const Sweep* sw) {
     }
     if (!a.quiet) std::printf("merged %zu points from %s into %s\n", n, wd.c_str(), a.out.c_str());
     return reference_tables(table, a, refs, layout);
+}
+
+// ---- --find: the smallest value of a key that meets a target ------------------
+
+// METRIC>=VALUE or METRIC<=VALUE; METRIC a column of the result table, or
+// speedup_vs=SYSTEM: the streaming machine's speedup over memory.system =
+// SYSTEM at the same point (SYSTEM's cycles over the streaming machine's).
+struct Target {
+    std::string metric, vs;
+    bool at_least = true;
+    double value = 0;
+    std::string text;
+    bool met(double x) const { return at_least ? x >= value : x <= value; }
+};
+
+Target parse_target(const std::string& t) {
+    Target g;
+    g.text = t;
+    const std::size_t ge = t.find(">="), le = t.find("<=");
+    const std::size_t at = ge != std::string::npos ? ge : le;
+    if (at == std::string::npos || at == 0 || (ge != std::string::npos && le != std::string::npos))
+        throw InputError("--target '" + t + "': expected METRIC>=VALUE or METRIC<=VALUE (e.g. efficiency>=0.9)");
+    g.at_least = at == ge;
+    g.metric = trimmed(t.substr(0, at));
+    const std::string v = trimmed(t.substr(at + 2));
+    char* end = nullptr;
+    g.value = std::strtod(v.c_str(), &end);
+    if (v.empty() || *end || !std::isfinite(g.value))
+        throw InputError("--target '" + t + "': '" + v + "' is not a number");
+    if (g.metric.rfind("speedup_vs=", 0) == 0) {
+        g.vs = g.metric.substr(11);
+        if (g.vs != "shared" && g.vs != "distributed")
+            throw InputError("--target '" + t + "': speedup_vs= takes shared or distributed (a baseline memory system)");
+    } else {
+        static const char* const derived[] = {"speedup", "efficiency", "area_time_normalized"};
+        bool known = false;
+        for (const auto& c : parse_csv(sim_csv_header(), "columns").header) known = known || c == g.metric;
+        for (const char* c : derived) known = known || g.metric == c;
+        if (!known)
+            throw InputError("--target '" + t + "': unknown METRIC '" + g.metric +
+                             "' (a column of the sweep's CSV, e.g. efficiency, total_cycles, or speedup_vs=shared)");
+    }
+    return g;
+}
+
+struct Probe {
+    std::uint64_t value = 0;
+    bool met = false;
+    double worst = 0;    // the metric at the row that meets the target least
+    std::string where;   // that row
+    CsvTable table;
+};
+
+int find_value(const SweepArgs& a) {
+    const std::string key = a.find;
+    const Target target = parse_target(a.target);
+    ParamSet mp = model::machine_params();
+    const bool dim = key == "fifo" || key == "iccs";
+    std::uint64_t lo = 1, hi = key == "fifo" ? 100000 : 4096;
+    if (!dim) {
+        if (!mp.has(key) || mp.type(key) != ParamSet::Type::Int)
+            throw InputError("--find " + key + ": not fifo, iccs or an integer config key (raplas simulate "
+                             "--dump-config lists them)");
+        const auto [mn, mx] = mp.range(key);
+        lo = std::uint64_t(std::max(0.0, mn));
+        hi = std::uint64_t(mx);
+        for (const auto& x : a.sets)
+            if (key_of(x) == key) throw InputError("--find " + key + ": also given with --set");
+        for (const auto& v : a.vary)
+            if (key_of(v) == key) throw InputError("--find " + key + ": also given with --vary");
+    }
+    if (key == "fifo" && !a.fifo.empty()) throw InputError("--find fifo: searches the FIFO depth; give no --fifo");
+    if (key == "iccs" && a.iccs.size() > 1)
+        throw InputError("--find iccs: searches the ICC count; --iccs may give one count, the base of speedup and "
+                         "efficiency");
+    if (!target.vs.empty())
+        for (const auto& v : a.vary)
+            if (key_of(v) == "memory.system") throw InputError("--target speedup_vs: varies memory.system itself; give no --vary memory.system");
+    if (a.find_limit) hi = std::min<std::uint64_t>(hi, a.find_limit);
+    if (hi < lo) throw InputError("--find-limit " + std::to_string(a.find_limit) + ": below the smallest value " + std::to_string(lo));
+    if (!a.check.empty() || !a.update.empty() || !a.emit_jobs.empty() || a.merge)
+        throw InputError("--find runs its own points: not with --check, --update, --emit-jobs or --merge");
+    const std::uint32_t base_iccs = key == "iccs" ? (a.iccs.empty() ? 1 : a.iccs[0]) : 0;
+
+    const std::string root = absolute_path(a.work_dir.empty() ? a.out + ".d" : a.work_dir);
+    std::error_code ec;
+    fs::create_directories(root + "/traces", ec);
+    if (!fs::is_directory(root + "/traces")) throw InputError(root + ": cannot create the work dir");
+    // The traces serve every probe unless the key changes the workload.
+    const bool share = dim || (key.rfind("workload.", 0) != 0 && key.rfind("numerics.", 0) != 0);
+
+    std::map<std::uint64_t, Probe> seen;
+    auto probe = [&](std::uint64_t v) -> const Probe& {
+        if (auto it = seen.find(v); it != seen.end()) return it->second;
+        SweepArgs b = a;
+        b.find.clear();
+        b.quiet = true;
+        b.progress = false;
+        b.out = root + "/probe-" + std::to_string(v) + ".csv";
+        b.work_dir = root + "/" + key + "-" + std::to_string(v);
+        if (key == "fifo") {
+            b.fifo = {std::uint32_t(v)};
+            if (a.base_fifo && a.base_fifo != v) b.fifo.push_back(a.base_fifo);
+        } else if (key == "iccs") {
+            b.iccs = {base_iccs};
+            if (v != base_iccs) b.iccs.push_back(std::uint32_t(v));
+        } else {
+            b.sets.push_back(key + "=" + std::to_string(v));
+        }
+        if (!target.vs.empty()) b.vary.push_back("memory.system=streaming," + target.vs);
+        Sweep sw = make_sweep(b, absolute_path(b.work_dir));
+        if (share) sw.trace_dir = root + "/traces";
+        if (!a.quiet) std::printf("find: %s = %llu ...\n", key.c_str(), (unsigned long long)v), std::fflush(stdout);
+        const int rc = run_sweep(sw, b);
+        if (rc != 0) throw InputError("--find " + key + ": the points at " + key + " = " + std::to_string(v) +
+                                      " failed (see above); nothing found");
+        Probe p;
+        p.value = v;
+        p.table = parse_csv(read_file(b.out), b.out);
+        const auto col = [&](const char* c) { return p.table.column(c); };
+        const auto c_metric = target.vs.empty() ? col(target.metric.c_str()) : col("total_cycles");
+        const auto c_iccs = col("iccs"), c_fifo = col("fifo_depth"), c_sys = col("memory_system"), c_scene = col("scene");
+        if (!c_metric) throw InputError("--target " + target.text + ": the sweep's CSV has no column " + target.metric);
+        bool first = true;
+        p.met = true;
+        for (std::size_t r = 0; r < p.table.rows.size(); ++r) {
+            const auto& row = p.table.rows[r];
+            if (key == "iccs" && c_iccs && row[*c_iccs] != std::to_string(v)) continue;  // the base's row
+            if (key == "fifo" && c_fifo && row[*c_fifo] != std::to_string(v)) continue;
+            if (!target.vs.empty() && c_sys && row[*c_sys] != "streaming") continue;
+            double x = std::strtod(row[*c_metric].c_str(), nullptr);
+            if (row[*c_metric].empty()) throw InputError("--target " + target.text + ": no " + target.metric + " in " + b.out);
+            if (!target.vs.empty()) {  // the baseline's row: the next with the same point, memory_system = vs
+                double other = 0;
+                for (const auto& o : p.table.rows)
+                    if (o[*c_sys] == target.vs && o[*c_iccs] == row[*c_iccs] && o[*c_fifo] == row[*c_fifo] &&
+                        o[*c_scene] == row[*c_scene])
+                        other = std::strtod(o[*c_metric].c_str(), nullptr);
+                x = x > 0 ? other / x : 0;
+            }
+            const bool ok = target.met(x);
+            // The row that meets the target least decides.
+            const bool worse = first || (target.at_least ? x < p.worst : x > p.worst);
+            if (worse) {
+                p.worst = x;
+                p.where = (c_scene ? row[*c_scene] : std::string("?")) + ", " +
+                          (c_iccs ? row[*c_iccs] : std::string("?")) + " ICCs, FIFO " + (c_fifo ? row[*c_fifo] : std::string("?"));
+            }
+            first = false;
+            p.met = p.met && ok;
+        }
+        if (first) throw InputError("--find: no row of " + b.out + " to judge");
+        if (!a.quiet)
+            std::printf("find: %s = %llu: %s = %.6g (%s): %s\n", key.c_str(), (unsigned long long)v, target.metric.c_str(),
+                        p.worst, p.where.c_str(), p.met ? "meets the target" : "does not"),
+                std::fflush(stdout);
+        return seen.emplace(v, std::move(p)).first->second;
+    };
+
+    // For the FIFO depth, first the limit of deep FIFOs: every point in closed
+    // form with unbounded Triangle, PlaneID and First-Triangle-ID FIFOs
+    // (sim.estimate = fifo_bound), a lower bound of the cycles at any depth.
+    // If it misses the target, no depth meets it: the search stops there.
+    std::string cap;
+    bool capped = false;
+    if (key == "fifo" && target.vs.empty()) {
+        SweepArgs b = a;
+        b.find.clear();
+        b.quiet = true;
+        b.progress = false;
+        b.fifo = {std::uint32_t(hi)};
+        if (a.base_fifo && a.base_fifo != hi) b.fifo.push_back(a.base_fifo);
+        b.sets.push_back("sim.estimate=fifo_bound");
+        b.out = root + "/bound.csv";
+        b.work_dir = root + "/bound";
+        Sweep sw = make_sweep(b, absolute_path(b.work_dir));
+        sw.trace_dir = root + "/traces";
+        if (run_sweep(sw, b) != 0) throw InputError("--find fifo: the closed-form bound failed (see above)");
+        const CsvTable t = parse_csv(read_file(b.out), b.out);
+        const auto c = t.column(target.metric), c_fifo = t.column("fifo_depth");
+        bool all = c.has_value();
+        double worst = target.at_least ? 1e300 : -1e300;
+        for (const auto& row : t.rows) {
+            if (!c || row[*c].empty() || (c_fifo && row[*c_fifo] != std::to_string(hi))) continue;
+            const double x = std::strtod(row[*c].c_str(), nullptr);
+            worst = target.at_least ? std::min(worst, x) : std::max(worst, x);
+            all = all && target.met(x);
+        }
+        if (c) {
+            char buf[256];
+            std::snprintf(buf, sizeof buf, "with FIFOs unbounded (sim.estimate = fifo_bound, the limit of deep FIFOs) %s is %.6g",
+                          target.metric.c_str(), worst);
+            cap = buf;
+            capped = !all;
+            if (!a.quiet) std::printf("find: %s: %s\n", cap.c_str(), all ? "the target may be met" : "the target cannot be met"), std::fflush(stdout);
+        }
+    }
+    if (capped) {
+        std::fprintf(stderr, "raplas: error: --find fifo: no FIFO depth meets %s: %s; wrote %s\n", target.text.c_str(),
+                     cap.c_str(), a.out.c_str());
+        write_file_atomically(a.out, read_file(root + "/bound.csv"));
+        return kExitInternalError;
+    }
+
+    // Gallop up from the smallest value, then bisect: the target is assumed to
+    // hold from some value on (checked on the values visited).
+    std::optional<std::uint64_t> found, failed;
+    for (std::uint64_t v = lo;; v = v == 0 ? 1 : v * 2) {
+        if (v > hi) v = hi;
+        if (probe(v).met) {
+            found = v;
+            break;
+        }
+        failed = v;
+        if (v == hi) break;
+    }
+    std::string why;
+    if (found) {
+        std::uint64_t l = failed ? *failed : lo, h = *found;  // l fails (unless l = h = lo), h meets
+        while (failed && h - l > 1) {
+            const std::uint64_t m = l + (h - l) / 2;
+            (probe(m).met ? h : l) = m;
+        }
+        found = h;
+        for (const auto& [v, p] : seen)
+            if (p.met != (v >= *found)) {
+                why = "the target is not monotone in " + key + " on the values visited (" + std::to_string(v) +
+                      (p.met ? " meets it" : " does not") + "): the answer is the smallest of a bisection, not proven";
+                break;
+            }
+    }
+
+    // The visited points, in the order of the key's value: the first columns
+    // say which value and whether it met the target.
+    CsvTable all;
+    for (const auto& [v, p] : seen) {
+        if (all.header.empty()) {
+            all.header = {"find_key", "find_value", "find_meets"};
+            all.header.insert(all.header.end(), p.table.header.begin(), p.table.header.end());
+        }
+        for (const auto& row : p.table.rows) {
+            std::vector<std::string> r = {key, std::to_string(v), p.met ? "true" : "false"};
+            r.insert(r.end(), row.begin(), row.end());
+            all.rows.push_back(std::move(r));
+        }
+    }
+    all.comments = {" raplas sweep --find " + key + " --target " + target.text + ": " +
+                    (found ? key + " = " + std::to_string(*found) : "not met up to " + std::to_string(hi))};
+    write_file_atomically(a.out, to_csv(all));
+
+    std::string visited;
+    for (const auto& [v, p] : seen) visited += (visited.empty() ? "" : ", ") + std::to_string(v) + (p.met ? "+" : "-");
+    if (!why.empty()) std::fprintf(stderr, "raplas: warning: --find %s: %s\n", key.c_str(), why.c_str());
+    if (found) {
+        const Probe& p = seen.at(*found);
+        std::string bracket = *found == lo ? "the smallest value" : "bracket [" + std::to_string(*found - 1) + ", " + std::to_string(*found) + "]";
+        if (!a.quiet)
+            std::printf("found: %s = %llu (%s = %.6g at %s; %s); %zu values visited (%s); wrote %s\n", key.c_str(),
+                        (unsigned long long)*found, target.metric.c_str(), p.worst, p.where.c_str(), bracket.c_str(),
+                        seen.size(), visited.c_str(), a.out.c_str());
+        return 0;
+    }
+    const Probe& top = seen.at(hi);
+    std::fprintf(stderr, "raplas: error: --find %s: no value up to %llu meets %s: at %llu, %s = %.6g (%s)%s; wrote %s\n",
+                 key.c_str(), (unsigned long long)hi, target.text.c_str(), (unsigned long long)hi, target.metric.c_str(),
+                 top.worst, top.where.c_str(), cap.empty() ? "" : ("; " + cap).c_str(), a.out.c_str());
+    return kExitInternalError;
 }
 
 }  // namespace
@@ -927,6 +1196,18 @@ void add_sweep_options(CLI::App* cmd, SweepArgs& a) {
                     "the ICC count that speedup and efficiency are relative to, in each series (default: the "
                     "smallest ICC count of the series)")
         ->check(CLI::Range(1u, 4096u));
+    cmd->add_option("--find", a.find,
+                    "KEY: search the smallest value of KEY (fifo, iccs or an integer config key) that meets --target "
+                    "at every point of the sweep, galloping then bisecting (docs/SWEEPS.md, \"Finding a value\")");
+    cmd->add_option("--target", a.target,
+                    "METRIC>=VALUE or METRIC<=VALUE for --find: METRIC a CSV column (efficiency, total_cycles, ...) "
+                    "or speedup_vs=shared|distributed");
+    cmd->add_option("--find-limit", a.find_limit, "the largest value --find tries (default: the key's range; FIFO 100000)")
+        ->check(CLI::Range(1u, 100000000u));
+    cmd->add_option("--base-fifo", a.base_fifo,
+                    "the FIFO depth that speedup and efficiency are relative to: each point against the base ICC "
+                    "count's point at this depth (default: at the point's own depth, which flatters small FIFOs)")
+        ->check(CLI::Range(1u, 100000000u));
     cmd->add_option("--normalize", a.normalize,
                     "KEY=VALUE: add area_time_normalized, each point's area x time over that of the point with "
                     "KEY=VALUE and everything else equal (KEY: a --vary key, iccs or fifo)");
@@ -966,6 +1247,11 @@ void check_sweep_files(const SweepArgs& a, const Sweep* sw) {
 
 int cmd_sweep(const SweepArgs& a) {
     check_out_path(a.out);
+    if (!a.find.empty() || !a.target.empty()) {
+        if (a.find.empty() || a.target.empty()) throw InputError("--find KEY and --target METRIC>=VALUE go together");
+        check_sweep_files(a, nullptr);
+        return find_value(a);
+    }
     const std::string wd = absolute_path(a.work_dir.empty() ? a.out + ".d" : a.work_dir);
     if (a.merge) {
         if (!a.emit_jobs.empty()) throw UsageError("give either --merge or --emit-jobs, not both");

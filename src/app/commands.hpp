@@ -79,6 +79,7 @@ struct SweepArgs {
     std::vector<std::string> vary;          // KEY=V1,V2,... or KEY=A..B (repeatable)
     std::vector<std::uint32_t> iccs, fifo;  // empty: the config's value
     std::uint32_t base_iccs = 0;            // speedup base; 0: the smallest ICC count of each series
+    std::uint32_t base_fifo = 0;            // speedup base's FIFO depth; 0: the point's own
     std::string normalize;                  // KEY=VALUE: area_time over that point's (area_time_normalized)
     std::string check, update;              // reference tables
     std::vector<std::string> tolerance;     // COL=REL for --check
@@ -86,6 +87,8 @@ struct SweepArgs {
     bool merge = false, progress = false, quiet = false;
     bool fresh = false;                     // --fresh: recompute the points whose inputs changed
     bool retry_failed = false;              // --retry-failed: simulate the points that failed before again
+    std::string find, target;               // --find KEY --target METRIC>=VALUE
+    std::uint64_t find_limit = 0;           // 0: the key's range
     const CLI::App* cmd = nullptr;          // gives the order of --scene and --mesh
     std::string command_line;               // as typed (the --update header)
 };

@@ -30,7 +30,9 @@ std::string render_json(const RenderReport& r) {
                   {"triangles_per_sphere", s.tris_per_sphere},
                   {"sphere_method", s.sphere_method},
                   {"camera", {{"eye", vec_json(s.camera.eye)}, {"look_at", vec_json(s.camera.look_at)},
-                              {"fov_deg", s.camera.fov_deg}, {"auto", s.camera_auto}}},
+                              {"fov_deg", s.camera.fov_deg}, {"auto", s.camera_auto},
+                              {"view", s.camera_auto ? (s.camera_inside ? "inside" : "outside") : "given"},
+                              {"choice", s.camera_note}}},
                   {"light", {{"corner", vec_json(s.light.corner)}, {"edge_u", vec_json(s.light.edge_u)},
                              {"edge_v", vec_json(s.light.edge_v)}, {"auto", s.light_auto}}}};
     j["format"] = r.format.name();
@@ -93,6 +95,7 @@ std::string render_summary(const RenderReport& r) {
       << f.shadow_group_count << " shadow ray groups (" << r.format.name() << ")\n"
       << "  plane-sphere tests " << total.plane_tests << ", sphere hits " << total.sphere_hits
       << ", ray-triangle tests " << total.rt_tests << "\n";
+    if (r.scene->camera_auto) o << "  automatic camera: " << r.scene->camera_note << " (camera.auto)\n";
     char buf[256];
     std::snprintf(buf, sizeof buf, "  wall: load %.3f s, spheres %.3f s, primary %.3f s, shadow %.3f s, shade+write %.3f s\n",
                   r.load_s, f.times.spheres_s, f.times.primary_s, f.times.shadow_s, f.times.shade_s + r.write_s);

@@ -79,11 +79,14 @@ static std::string number_cell(double x) {
     return buf;
 }
 
-Derived derived_of(std::uint32_t base_iccs, const std::string& normalize, const Layout& l) {
+Derived derived_of(std::uint32_t base_iccs, const std::string& normalize, const Layout& l, std::uint32_t base_fifo) {
     Derived d;
     d.base_iccs = base_iccs;
+    d.base_fifo = base_fifo;
     if (base_iccs && std::find(l.iccs.begin(), l.iccs.end(), base_iccs) == l.iccs.end())
         throw InputError("--base-iccs " + std::to_string(base_iccs) + ": not one of the sweep's --iccs");
+    if (base_fifo && std::find(l.fifo.begin(), l.fifo.end(), base_fifo) == l.fifo.end())
+        throw InputError("--base-fifo " + std::to_string(base_fifo) + ": not one of the sweep's --fifo");
     if (!normalize.empty()) {
         const auto eq = normalize.find('=');
         if (eq == std::string::npos || eq == 0 || eq + 1 == normalize.size())
@@ -120,8 +123,8 @@ CsvTable result_table(const Results& r, const Layout& l, const Derived& dv) {
     t.header.assign(h.begin(), h.begin() + std::ptrdiff_t(std::min(cfg_col, h.size())));
     for (const auto& v : l.vary) t.header.push_back(v.key);
     t.header.insert(t.header.end(), h.begin() + std::ptrdiff_t(std::min(cfg_col, h.size())), h.end());
-    t.header.insert(t.header.end(), {"speedup", "efficiency", "base_iccs"});
-    if (!dv.normalize_key.empty()) t.header.push_back("area_time_normalized");
+    t.header.insert(t.header.end(), {"speedup", "efficiency", "base_iccs", "base_fifo"});
+    if (!dv.normalize_key.empty()) t.header.insert(t.header.end(), {"area_time_normalized", "normalized_to"});
 
     auto col = [&](const char* name) -> std::optional<std::size_t> {
         const auto it = std::find(h.begin(), h.end(), name);
@@ -146,11 +149,16 @@ CsvTable result_table(const Results& r, const Layout& l, const Derived& dv) {
         const auto d = l.digits(i);
         for (std::size_t k = 0; k < l.vary.size(); ++k) out.push_back(l.vary[k].values[d[k + 1]]);
         out.insert(out.end(), row.begin() + std::ptrdiff_t(std::min(cfg_col, row.size())), row.end());
-        // The series' base: the point with the base ICC count (or the smallest of the series).
+        // The series' base: the point with the base ICC count (or the smallest
+        // of the series), at the base FIFO depth (or the point's own).
         std::optional<std::size_t> base;
         std::optional<double> base_iccs;
+        auto fd = d;
+        if (dv.base_fifo)
+            for (std::size_t j = 0; j < l.fifo.size(); ++j)
+                if (l.fifo[j] == dv.base_fifo) fd[icc_digit + 1] = j;
         for (std::size_t j = 0; j < l.iccs.size(); ++j) {
-            auto e = d;
+            auto e = fd;
             e[icc_digit] = j;
             const std::size_t p = l.index(e);
             const auto k = value(p, c_iccs);
@@ -165,8 +173,10 @@ CsvTable result_table(const Results& r, const Layout& l, const Derived& dv) {
             out.push_back(number_cell(speedup));
             out.push_back(number_cell(speedup * *base_iccs / *k));
             out.push_back(number_cell(*base_iccs));
+            const auto bf = value(*base, c_fifo);
+            out.push_back(bf ? number_cell(*bf) : "");
         } else {
-            out.insert(out.end(), {"", "", ""});
+            out.insert(out.end(), {"", "", "", ""});
         }
         if (!dv.normalize_key.empty()) {
             auto e = d;
@@ -177,7 +187,6 @@ CsvTable result_table(const Results& r, const Layout& l, const Derived& dv) {
                 const auto& list = iccs ? l.iccs : l.fifo;
                 for (std::size_t j = 0; j < list.size(); ++j)
                     if (std::to_string(list[j]) == dv.normalize_value) e[digit] = j, ref = l.index(e);
-                (void)c_fifo;
             } else {
                 for (std::size_t k2 = 0; k2 < l.vary.size(); ++k2)
                     if (l.vary[k2].key == dv.normalize_key)
@@ -187,6 +196,7 @@ CsvTable result_table(const Results& r, const Layout& l, const Derived& dv) {
             const auto at = value(i, c_area_time);
             const auto ref_at = ref ? value(*ref, c_area_time) : std::nullopt;
             out.push_back(at && ref_at && *ref_at > 0 ? number_cell(*at / *ref_at) : "");
+            out.push_back(dv.normalize_key + "=" + dv.normalize_value);
         }
         t.rows.push_back(std::move(out));
     }

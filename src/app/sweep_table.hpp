@@ -97,15 +97,18 @@ private:
 // What the result table adds to the points' rows.
 struct Derived {
     std::uint32_t base_iccs = 0;  // 0: the smallest ICC count of each series
+    std::uint32_t base_fifo = 0;  // 0: the point's own FIFO depth
     std::string normalize_key;    // "" or a varied key, "iccs" or "fifo"
     std::string normalize_value;
 };
 // --base-iccs and --normalize KEY=VALUE, checked against the layout.
-Derived derived_of(std::uint32_t base_iccs, const std::string& normalize, const Layout& l);
+Derived derived_of(std::uint32_t base_iccs, const std::string& normalize, const Layout& l, std::uint32_t base_fifo = 0);
 
 // The points' columns with the varied keys after `config`, then speedup,
-// efficiency and base_iccs of each series (the points that differ in their
-// ICC count only), and area_time_normalized with --normalize.
+// efficiency, base_iccs and base_fifo of each series (the points that differ
+// in their ICC count only; with --base-fifo D the base is the point at FIFO
+// depth D instead of the point's own), and area_time_normalized with
+// normalized_to (KEY=VALUE) with --normalize.
 CsvTable result_table(const Results& r, const Layout& l, const Derived& d);
 
 // --tolerance COLUMN=REL, checked.

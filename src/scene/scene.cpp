@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <limits>
 
 #include "raplas/scene/animation.hpp"
 #include "raplas/util/data_dir.hpp"
@@ -29,6 +30,12 @@ ParamSet scene_params() {
     p.add_vec3("camera.look_at", std::nullopt, "point the camera looks at (unset = automatic)");
     p.add_vec3("camera.up", Vec3d(0, 1, 0), "camera up direction");
     p.add_real("camera.fov_deg", 40.0, 1.0, 170.0, "vertical field of view, degrees");
+    p.add_string("camera.auto", std::string("detect"),
+                 "automatic framing (no camera.eye): outside = the mesh seen from outside; inside = the eye inside "
+                 "it, looking along its longest free line of sight, with the automatic light under its ceiling; "
+                 "detect = inside when the mesh encloses its bounding box's centre with inward-facing surfaces "
+                 "(a room, an atrium), else outside",
+                 {"detect", "outside", "inside"});
     p.add_vec3("light.corner", std::nullopt, "area light corner (unset = automatic light above the mesh)");
     p.add_vec3("light.edge_u", std::nullopt, "area light first edge; the light emits toward edge_u x edge_v");
     p.add_vec3("light.edge_v", std::nullopt, "area light second edge");
@@ -181,6 +188,109 @@ Camera auto_camera(const Mesh& m, std::size_t triangles, double fov_deg, double 
     return cam;
 }
 
+namespace {
+
+// The nearest hit of the ray o + t d (t > 0) with the first `triangles`
+// triangles of `m`, in double (Moeller-Trumbore); t = +inf when none, and
+// `facing` whether that triangle's winding normal faces back along the ray.
+double nearest_hit(const Mesh& m, std::size_t triangles, const Vec3d& o, const Vec3d& d, bool* facing = nullptr) {
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t t = 0; t < triangles; ++t) {
+        const Vec3d a = to_d(m.vertices[m.triangles[t][0]]), b = to_d(m.vertices[m.triangles[t][1]]),
+                    c = to_d(m.vertices[m.triangles[t][2]]);
+        const Vec3d e1 = b - a, e2 = c - a, pv = cross(d, e2);
+        const double det = dot(e1, pv);
+        if (std::fabs(det) < 1e-300) continue;
+        const double inv = 1.0 / det;
+        const Vec3d tv = o - a;
+        const double u = dot(tv, pv) * inv;
+        if (u < 0 || u > 1) continue;
+        const Vec3d qv = cross(tv, e1);
+        const double v = dot(d, qv) * inv;
+        if (v < 0 || u + v > 1) continue;
+        const double h = dot(e2, qv) * inv;
+        if (h > 1e-9 && h < best) {
+            best = h;
+            if (facing) *facing = dot(cross(e1, e2), d) < 0;
+        }
+    }
+    return best;
+}
+
+Aabb bounds_of(const Mesh& m, std::size_t triangles) {
+    Aabb b;
+    for (std::size_t t = 0; t < triangles; ++t)
+        for (auto i : m.triangles[t]) b.grow(to_d(m.vertices[i]));
+    return b;
+}
+
+}  // namespace
+
+InteriorTest interior_test(const Mesh& m, std::size_t triangles) {
+    InteriorTest r;
+    const Aabb b = bounds_of(m, triangles);
+    const Vec3d c = b.center();
+    // 128 directions spread over the sphere (a Fibonacci lattice).
+    constexpr int kRays = 128;
+    int inward = 0;
+    for (int i = 0; i < kRays; ++i) {
+        const double y = 1 - (i + 0.5) * 2.0 / kRays, rho = std::sqrt(std::max(0.0, 1 - y * y));
+        const double phi = i * M_PI * (3 - std::sqrt(5.0));
+        const Vec3d d{rho * std::cos(phi), y, rho * std::sin(phi)};
+        bool facing = false;
+        if (std::isfinite(nearest_hit(m, triangles, c, d, &facing)) && facing) ++inward;
+    }
+    r.inward_fraction = double(inward) / kRays;
+    // The volume the winding encloses, about the centre: negative when the
+    // surfaces, summed, face inward (walls modelled to be seen from inside).
+    // A closed object around the centre can show the rays an inner face (a
+    // teapot's lid and body), but its winding encloses a positive volume.
+    for (std::size_t t = 0; t < triangles; ++t) {
+        const Vec3d a = to_d(m.vertices[m.triangles[t][0]]) - c, bb = to_d(m.vertices[m.triangles[t][1]]) - c,
+                    cc = to_d(m.vertices[m.triangles[t][2]]) - c;
+        r.volume += dot(a, cross(bb, cc)) / 6;
+    }
+    r.inside = r.inward_fraction >= 0.9 && r.volume < 0;
+    return r;
+}
+
+Camera inside_camera(const Mesh& m, std::size_t triangles, double fov_deg) {
+    const Aabb b = bounds_of(m, triangles);
+    const Vec3d ext = b.extent();
+    // At the centre of the floor plan, at 40 % of the height, looking along the
+    // horizontal line of sight that runs farthest before it meets a surface.
+    Camera cam;
+    cam.up = {0, 1, 0};
+    cam.fov_deg = fov_deg;
+    cam.eye = {b.center().x, b.lo.y + 0.4 * ext.y, b.center().z};
+    double far = -1;
+    for (int k = 0; k < 16; ++k) {
+        const double a = k * M_PI / 8;
+        const Vec3d d{std::cos(a), 0, std::sin(a)};
+        double t = nearest_hit(m, triangles, cam.eye, d);
+        if (!std::isfinite(t)) t = length(ext);
+        if (t > far * 1.001) far = t, cam.look_at = cam.eye + d * (0.5 * t);
+    }
+    return cam;
+}
+
+AreaLight inside_light(const Mesh& m, std::size_t triangles, const Vec3d& eye) {
+    const Aabb b = bounds_of(m, triangles);
+    const Vec3d ext = b.extent();
+    // Under the ceiling above the eye (or the top of the box when open), a
+    // square a quarter of the smaller floor side, facing down: it reaches the
+    // floor below it.
+    double up = nearest_hit(m, triangles, eye, {0, 1, 0});
+    if (!std::isfinite(up)) up = b.hi.y - eye.y;
+    const double side = 0.25 * std::max(std::min(ext.x, ext.z), 1e-6);
+    const Vec3d center = eye + Vec3d(0, 0.95 * up, 0);
+    AreaLight l;
+    l.edge_u = {side, 0, 0};
+    l.edge_v = {0, 0, side};  // u x v points down (-y)
+    l.corner = center - l.edge_u * 0.5 - l.edge_v * 0.5;
+    return l;
+}
+
 AreaLight auto_light(const Aabb& b) {
     Vec3d c = b.center();
     double r = std::max(length(b.extent()) * 0.5, 1e-6);
@@ -268,8 +378,26 @@ Scene scene_from_params(const ParamSet& p, const std::string& mesh_override) {
     } else if (wave) {
         s.camera = {{0.0, 3.4, 5.4}, {0.0, -0.3, 0.2}, {0, 1, 0}, fov};
     } else {
-        const double aspect = double(p.get_int("image.width")) / double(p.get_int("image.height"));
-        s.camera = auto_camera(s.mesh, object_triangles, fov, aspect);
+        const std::string mode = p.get_string("camera.auto");
+        if (mode == "detect") {
+            const InteriorTest it = interior_test(s.mesh, object_triangles);
+            s.camera_inside = it.inside;
+            char buf[160];
+            std::snprintf(buf, sizeof buf, "%s: %.0f %% of the rays from its centre meet a surface facing them, its "
+                          "winding faces %s", it.inside ? "inside (the mesh encloses its centre)" : "outside",
+                          100 * it.inward_fraction, it.volume < 0 ? "inward" : "outward");
+            s.camera_note = buf;
+        } else {
+            s.camera_inside = mode == "inside";
+            s.camera_note = mode + " (camera.auto)";
+        }
+        if (s.camera_inside) {
+            // A view from inside wants a wider angle than the default 40 degrees.
+            s.camera = inside_camera(s.mesh, object_triangles, p.is_given("camera.fov_deg") ? fov : 70.0);
+        } else {
+            const double aspect = double(p.get_int("image.width")) / double(p.get_int("image.height"));
+            s.camera = auto_camera(s.mesh, object_triangles, fov, aspect);
+        }
         s.camera_auto = true;
     }
     auto lc = p.get_vec3("light.corner"), lu = p.get_vec3("light.edge_u"), lv = p.get_vec3("light.edge_v");
@@ -292,7 +420,7 @@ Scene scene_from_params(const ParamSet& p, const std::string& mesh_override) {
         s.light.edge_u = {1.2, 0, 0};
         s.light.edge_v = {0, 0, 1.2};
     } else {
-        s.light = auto_light(object_bounds);
+        s.light = s.camera_inside ? inside_light(s.mesh, object_triangles, s.camera.eye) : auto_light(object_bounds);
         s.light_auto = true;
     }
     s.light.emission = *p.get_vec3("light.emission");

@@ -483,6 +483,12 @@ std::optional<double> ParamSet::get_optional_real(const std::string& key) const 
     return d.cur.d;
 }
 const std::vector<ParamSet>& ParamSet::get_tables(const std::string& key) const { return get(key, Type::Tables).cur.tables; }
+std::pair<double, double> ParamSet::range(const std::string& key) const {
+    const auto it = decls_.find(key);
+    if (it == decls_.end()) return {0, 0};
+    return {it->second.min, it->second.max};
+}
+
 std::vector<std::string> ParamSet::keys() const { return order_; }
 const std::string& ParamSet::description(const std::string& key) const { return decls_.at(key).desc; }
 

@@ -599,4 +599,62 @@ TEST_F(Provenance, ResultsReportTheWorkloadSimulatedWhicheverPathItCameBy) {
     EXPECT_NE(sixteen["config_hash"], named["config_hash"]);
 }
 
+// A closed room (floor, ceiling, four walls wound to face inward) with a
+// table, or the same box wound to face outward (a closed object), as OBJ text.
+std::string box_obj(bool inward) {
+    std::ostringstream o;
+    const float x0 = -5, x1 = 5, y0 = 0, y1 = 4, z0 = -4, z1 = 4;
+    const float v[8][3] = {{x0, y0, z0}, {x1, y0, z0}, {x1, y0, z1}, {x0, y0, z1},
+                           {x0, y1, z0}, {x1, y1, z0}, {x1, y1, z1}, {x0, y1, z1}};
+    for (const auto& p : v) o << "v " << p[0] << " " << p[1] << " " << p[2] << "\n";
+    // Each face as a quad wound counter-clockwise seen from outside.
+    const int q[6][4] = {{1, 2, 3, 4}, {5, 8, 7, 6}, {1, 5, 6, 2}, {2, 6, 7, 3}, {3, 7, 8, 4}, {4, 8, 5, 1}};
+    for (const auto& f : q) {
+        if (inward) o << "f " << f[0] << " " << f[3] << " " << f[2] << "\nf " << f[0] << " " << f[2] << " " << f[1] << "\n";
+        else o << "f " << f[0] << " " << f[1] << " " << f[2] << "\nf " << f[0] << " " << f[2] << " " << f[3] << "\n";
+    }
+    if (inward)  // a table top in the room, facing up
+        o << "v -1 1 -1\nv 1 1 -1\nv 1 1 1\nv -1 1 1\nf 9 12 11\nf 9 11 10\n";
+    return o.str();
+}
+
+// An interior is framed from inside, lit from under its ceiling, and says so;
+// camera.auto overrides the choice, and a closed object is still seen from outside.
+TEST_F(Cli, AnInteriorIsFramedFromInsideWithALightThatReachesTheFloor) {
+    std::ofstream(dir / "room.obj") << box_obj(true);
+    std::ofstream(dir / "cube.obj") << box_obj(false);
+    auto render = [&](const std::string& mesh, const std::vector<std::string>& extra) {
+        const RunResult r = run(plus({"render", "--mesh", mesh, "--set", "image.width=32", "--set", "image.height=32",
+                                      "--json", "r.json", "-o", "r.png"},
+                                     extra));
+        EXPECT_EQ(r.code, 0) << r.err;
+        return std::make_pair(r.out, nlohmann::json::parse(slurp(dir / "r.json")));
+    };
+    const auto [room_out, room] = render("room.obj", {});
+    EXPECT_THAT(room_out, HasSubstr("automatic camera: inside (the mesh encloses its centre)"));
+    EXPECT_EQ(room["scene"]["camera"]["view"], "inside");
+    const auto eye = room["scene"]["camera"]["eye"];
+    for (int k = 0; k < 3; ++k) {
+        const double lo[3] = {-5, 0, -4}, hi[3] = {5, 4, 4};
+        EXPECT_GT(eye[k].get<double>(), lo[k]);
+        EXPECT_LT(eye[k].get<double>(), hi[k]);
+    }
+    // The floor in front of the eye is lit: the lower image rows are well
+    // above the ambient term (0.15 of the albedo) that a light outside leaves.
+    int w = 0, h = 0;
+    const std::vector<std::uint8_t> px = raplas::read_rgb8((dir / "r.png").string(), w, h);
+    double lower = 0;
+    for (int y = h * 3 / 4; y < h; ++y)
+        for (int x = 0; x < w; ++x) lower += px[std::size_t(y * w + x) * 3 + 1];
+    lower /= double(w * (h - h * 3 / 4));
+    EXPECT_GT(lower, 90.0) << "the floor is dark: the light does not reach it";
+
+    const auto [forced_out, forced] = render("room.obj", {"--set", "camera.auto=outside"});
+    EXPECT_EQ(forced["scene"]["camera"]["view"], "outside");
+    EXPECT_GT(forced["scene"]["camera"]["eye"][1].get<double>(), 4.0) << "from outside, above the room";
+    const auto [cube_out, cube] = render("cube.obj", {});
+    EXPECT_THAT(cube_out, HasSubstr("automatic camera: outside"));
+    EXPECT_EQ(cube["scene"]["camera"]["view"], "outside");
+}
+
 }  // namespace

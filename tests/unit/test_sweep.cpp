@@ -449,3 +449,99 @@ TEST_F(Sweep, ReferenceTablesUpdateCheckAndShowEveryDifference) {
 }
 
 }  // namespace
+
+namespace {
+
+// --find against a full sweep of the same points: the value it gives is the
+// smallest that meets the target there, and the one below it does not.
+std::map<std::string, double> column_by(const std::vector<std::map<std::string, std::string>>& rows,
+                                        const std::string& key, const std::string& value_col,
+                                        const std::string& where_col = "", const std::string& where = "") {
+    std::map<std::string, double> m;
+    for (const auto& r : rows)
+        if (where_col.empty() || r.at(where_col) == where) m[r.at(key)] = std::stod(r.at(value_col));
+    return m;
+}
+
+const std::vector<std::string> kTiny = {"--set", "image.width=16", "--set", "image.height=16"};
+
+}  // namespace
+
+TEST_F(Sweep, FindGivesTheSmallestFifoDepthAFullSweepGives) {
+    const RunResult r = run(plus(plus({"sweep", "-q", "--iccs", "1,4", "--find", "fifo", "--target", "efficiency>=0.57",
+                                       "--out", "find.csv"},
+                                      kTiny),
+                                 {}));
+    ASSERT_EQ(r.code, 0) << r.err;
+    std::string fifos;
+    for (int d = 1; d <= 16; ++d) fifos += (d > 1 ? "," : "") + std::to_string(d);
+    const RunResult full = run(plus(plus({"sweep", "-q", "--iccs", "1,4", "--fifo", fifos, "--out", "full.csv"}, kTiny), {}));
+    ASSERT_EQ(full.code, 0) << full.err;
+    const auto eff = column_by(parse_csv(slurp(dir / "full.csv")), "fifo_depth", "efficiency", "iccs", "4");
+    int smallest = 0;
+    for (int d = 16; d >= 1; --d)
+        if (eff.at(std::to_string(d)) >= 0.57) smallest = d;
+        else break;
+    ASSERT_GT(smallest, 1) << "the target is met at every depth: no search to test";
+    // What --find wrote: the comment line names the answer, the rows the points it visited.
+    const std::string text = slurp(dir / "find.csv");
+    EXPECT_THAT(text, HasSubstr(": fifo = " + std::to_string(smallest) + "\n")) << text.substr(0, 200);
+    std::string body;
+    for (const auto& line : lines_of(text))
+        if (line.rfind("#", 0) != 0) body += line + "\n";
+    bool below = false;
+    for (const auto& row : parse_csv(body)) {
+        const int v = std::stoi(row.at("find_value"));
+        EXPECT_EQ(row.at("find_meets") == "true", v >= smallest) << "fifo " << v;
+        if (row.at("iccs") == "4") EXPECT_EQ(std::stod(row.at("efficiency")), eff.at(std::to_string(v))) << "fifo " << v;
+        below = below || v == smallest - 1;
+    }
+    EXPECT_TRUE(below) << "the bracket's lower end was visited";
+    // A target no depth meets stops at the closed-form limit of deep FIFOs, exit 1.
+    const RunResult never = run(plus(plus({"sweep", "-q", "--iccs", "1,4", "--find", "fifo", "--target",
+                                           "efficiency>=0.99", "--out", "never.csv"},
+                                          kTiny),
+                                     {}));
+    EXPECT_EQ(never.code, 1) << never.err;
+    EXPECT_THAT(never.err, HasSubstr("no FIFO depth meets efficiency>=0.99: with FIFOs unbounded"));
+}
+
+TEST_F(Sweep, FindGivesTheCrossoverWithTheSharedMemoryAFullSweepGives) {
+    const RunResult r = run(plus(plus({"sweep", "-q", "--find", "iccs", "--target", "speedup_vs=shared>=1", "--out",
+                                       "cross.csv"},
+                                      kTiny),
+                                 {}));
+    ASSERT_EQ(r.code, 0) << r.err;
+    std::string iccs;
+    for (int k = 1; k <= 40; ++k) iccs += (k > 1 ? "," : "") + std::to_string(k);
+    const RunResult full = run(plus(plus({"sweep", "-q", "--jobs", "2", "--iccs", iccs, "--vary",
+                                          "memory.system=streaming,shared", "--out", "full.csv"},
+                                         kTiny),
+                                    {}));
+    ASSERT_EQ(full.code, 0) << full.err;
+    const auto rows = parse_csv(slurp(dir / "full.csv"));
+    const auto streaming = column_by(rows, "iccs", "total_cycles", "memory.system", "streaming");
+    const auto shared = column_by(rows, "iccs", "total_cycles", "memory.system", "shared");
+    int crossover = 0;
+    for (int k = 1; k <= 40 && !crossover; ++k)
+        if (shared.at(std::to_string(k)) >= streaming.at(std::to_string(k))) crossover = k;
+    ASSERT_GT(crossover, 1) << "no crossover within 40 ICCs to test";
+    EXPECT_THAT(slurp(dir / "cross.csv"), HasSubstr(": iccs = " + std::to_string(crossover) + "\n"));
+}
+
+TEST_F(Sweep, FindRefusesWhatItCannotSearch) {
+    const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+        {{"--find", "fifo", "--target", "efficiency>0.9"}, "expected METRIC>=VALUE or METRIC<=VALUE"},
+        {{"--find", "fifo", "--target", "colour>=1"}, "unknown METRIC 'colour'"},
+        {{"--find", "fifo", "--target", "efficiency>=high"}, "'high' is not a number"},
+        {{"--find", "icc.triangle_select", "--target", "efficiency>=0.9"}, "not fifo, iccs or an integer config key"},
+        {{"--find", "fifo", "--fifo", "10", "--target", "efficiency>=0.9"}, "give no --fifo"},
+        {{"--find", "fifo"}, "--find KEY and --target METRIC>=VALUE go together"},
+    };
+    for (const auto& [extra, needle] : cases) {
+        const RunResult r = run(plus(plus({"sweep", "--out", "x.csv"}, kTiny), extra));
+        EXPECT_EQ(r.code, 2) << needle;
+        EXPECT_THAT(r.err, HasSubstr(needle));
+        EXPECT_FALSE(fs::exists(dir / "x.csv")) << needle;
+    }
+}

@@ -35,6 +35,9 @@ struct Scene {
     Camera camera;
     AreaLight light;
     bool camera_auto = false, light_auto = false;
+    // Automatic framing from inside the mesh (camera.auto), and what it chose and why.
+    bool camera_inside = false;
+    std::string camera_note;
     int width = 64, height = 64;
     int group_size = 16;         // N: primary ray groups are N x N pixel tiles
     int shadow_group_size = 16;  // shadow ray groups: an N x N grid on the light
@@ -98,6 +101,22 @@ std::vector<std::string> scene_mesh_files(const ParamSet& p, const std::string& 
 // view of `fov_deg` (vertical) and `aspect` (width / height).
 Camera auto_camera(const Mesh& m, std::size_t triangles, double fov_deg, double aspect);
 AreaLight auto_light(const Aabb& bounds);
+// Whether a mesh (its first `triangles` triangles) is an interior: from the
+// centre of its bounding box, at least 90 % of 128 rays spread over the
+// sphere meet a surface whose winding normal faces them, and the volume its
+// winding encloses is negative (its surfaces, summed, face inward: walls
+// modelled to be seen from inside; a closed object encloses a positive one).
+struct InteriorTest {
+    bool inside = false;
+    double inward_fraction = 0;
+    double volume = 0;  // signed, about the centre
+};
+InteriorTest interior_test(const Mesh& m, std::size_t triangles);
+// The framing of an interior: the eye at the centre of the floor plan, 40 %
+// up, looking along the farthest horizontal line of sight; the light under
+// the ceiling above the eye, facing down.
+Camera inside_camera(const Mesh& m, std::size_t triangles, double fov_deg);
+AreaLight inside_light(const Mesh& m, std::size_t triangles, const Vec3d& eye);
 // Appends a floor quad just below the mesh (scene key `floor`).
 void add_floor(Mesh& m);
 

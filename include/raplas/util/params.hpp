@@ -84,6 +84,8 @@ public:
     // A key's current value as TOML (what dump() writes; "" when unset).
     std::string value_text(const std::string& key) const;
     std::vector<std::string> keys() const;
+    // The range a number key accepts (min, max).
+    std::pair<double, double> range(const std::string& key) const;
     const std::string& description(const std::string& key) const;
     const std::string& what() const { return what_; }
     const std::string& listed_by() const { return listed_by_; }
