@@ -80,6 +80,13 @@ ParamSet machine_params() {
     p.add_int("workload.group_size", 0, 0, 64, "primary ray group size N (0 = the scene's groups.size)");
     p.add_int("workload.shadow_group_size", 0, 0, 64, "shadow ray group size (0 = the scene's groups.shadow_size)");
     p.add_int("workload.triangles_per_sphere", 0, 0, 64, "triangles per sphere (0 = the scene's value)");
+    p.add_string("workload.group_order", std::string("pixel"),
+                 "the order the Host issues groups to passes and ICCs, primary and shadow groups each among "
+                 "themselves: pixel = the trace's (tiles row by row, shadow groups in pixel order); random = "
+                 "shuffled (workload.group_seed); morton = by the Z-order of the group's pixel; strided = pass k, "
+                 "ICC i takes group i*P + k of the P passes (each ICC a stretch of the image)",
+                 {"pixel", "random", "morton", "strided"});
+    p.add_int("workload.group_seed", 1, 0, 1000000000, "workload.group_order = random: the shuffle's seed");
     p.add_string("numerics.format", std::string("float32"),
                  "number format of the intersectors: float32, float64, fp1-E-M[-rtz][-ftz][-psiunnorm], each optionally "
                  "followed by -wt (numerics.rti_test = watertight)");
@@ -188,6 +195,8 @@ SimConfig config_from_params(const ParamSet& p) {
     c.group_size = std::uint32_t(p.get_int("workload.group_size"));
     c.shadow_group_size = std::uint32_t(p.get_int("workload.shadow_group_size"));
     c.triangles_per_sphere = std::uint32_t(p.get_int("workload.triangles_per_sphere"));
+    c.group_order = group_order_from_name(p.get_string("workload.group_order"));
+    c.group_seed = std::uint64_t(p.get_int("workload.group_seed"));
     c.format = numerics_from_params(p);
     c.functional = p.get_string("sim.functional") == "trace" ? FunctionalMode::trace : FunctionalMode::compute;
     c.cull = p.get_bool("sim.cull");
@@ -240,6 +249,8 @@ std::string inert_config_key(const ParamSet& p, const std::string& key) {
     const std::string estimate = p.get_string("sim.estimate"), system = p.get_string("memory.system");
     if ((key == "sim.sample_fraction" || key == "sim.sample_seed") && estimate != "sample_passes")
         return "applies only with sim.estimate = sample_passes (here " + estimate + ")";
+    if (key == "workload.group_seed" && p.get_string("workload.group_order") != "random")
+        return "seeds workload.group_order = random (here " + p.get_string("workload.group_order") + ")";
     if (key == "sim.fault_icc" && p.get_string("sim.fault") == "none")
         return "names the ICC of sim.fault, and sim.fault = none";
     if ((key == "memory.pe" || key == "memory.fetch_records_per_cycle") && system == "streaming")

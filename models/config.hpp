@@ -5,6 +5,7 @@
 #include <string>
 
 #include "area.hpp"
+#include "group_order.hpp"
 #include "icc.hpp"
 #include "watchdog.hpp"
 #include "raplas/util/params.hpp"
@@ -36,6 +37,9 @@ struct SimConfig {
     std::uint64_t triangle_lag_cycles = 0;  // the triangle stream starts this many cycles after the sphere stream
     // Workload overrides of the scene (0 = keep the scene's value).
     std::uint32_t group_size = 0, shadow_group_size = 0, triangles_per_sphere = 0;
+    // The order groups are issued in (models/group_order.hpp) and the seed of the random one.
+    GroupOrder group_order = GroupOrder::pixel;
+    std::uint64_t group_seed = 1;
     NumFormat format = NumFormat::float32();
     FunctionalMode functional = FunctionalMode::compute;
     bool cull = true;  // compute mode: skip spheres a group provably misses (core/cull.hpp)

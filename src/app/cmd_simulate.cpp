@@ -186,6 +186,9 @@ int cmd_simulate(const SimulateArgs& a) {
         if (cfg.estimate != model::Estimate::sample_passes)
             throw UsageError("--sample-front-end needs sim.estimate = sample_passes");
         if (a.whole_frame) throw UsageError("--sample-front-end needs a streamed run: not with --whole-frame");
+        if (cfg.group_order != model::GroupOrder::pixel)
+            throw UsageError("--sample-front-end needs a streamed run: not with workload.group_order = " +
+                             std::string(model::group_order_name(cfg.group_order)) + " (it needs every group first)");
         if (cfg.memory.system != model::MemorySystem::streaming)
             throw UsageError("--sample-front-end needs memory.system = streaming (a baseline reads every group)");
     }
@@ -228,7 +231,11 @@ int cmd_simulate(const SimulateArgs& a) {
     // The streaming machine takes the groups as the front end makes them (or
     // as a trace's blocks are read), a window of passes ahead of the model;
     // the baselines need the whole trace.
-    const bool streamed = !a.whole_frame && cfg.memory.system == model::MemorySystem::streaming;
+    // A group order other than the trace's needs every group at hand (the
+    // shards of --jobs each take the whole stream and permute it themselves).
+    const bool permuted = cfg.group_order != model::GroupOrder::pixel;
+    const bool streamed = !a.whole_frame && cfg.memory.system == model::MemorySystem::streaming &&
+                          (!permuted || local_jobs > 1);
     auto open_stream = [&] {
         auto owned = std::make_unique<GroupStream>(std::size_t(a.window) * cfg.iccs);
         stream = owned.get();
@@ -317,10 +324,16 @@ int cmd_simulate(const SimulateArgs& a) {
             scene_name = scene.name;
         }
     }
+    std::unique_ptr<GroupSource> trace_order;  // with workload.group_order: the trace's order, observed
     if (!source) {
         frontend_s = std::chrono::duration<double>(clock::now() - t0).count();
         check_model(cfg, trace);
         source = std::make_unique<TraceSource>(trace);
+        if (permuted) {
+            trace_order = std::move(source);
+            source = std::make_unique<PermutedSource>(trace, model::issue_order(trace, cfg.group_order, cfg.group_seed,
+                                                                                cfg.iccs));
+        }
     }
     // The front end failed: what it says, and (a trace damaged late in the
     // stream) what was done before it.
@@ -361,9 +374,15 @@ int cmd_simulate(const SimulateArgs& a) {
     }
     const bool pairless = cfg.icc.decoder.select == model::TriangleSelect::any;
     WorkloadTally tally(header, pairless);
-    source->observers.push_back(tally.observer());
+    // The workload's figures and hash fold the trace in its own order.
+    (trace_order ? trace_order : source)->observers.push_back(tally.observer());
     model::MemoryStats memory;
-    const model::SimResult result = model::simulate_system(*source, cfg, memory, opt);
+    model::SimResult result = model::simulate_system(*source, cfg, memory, opt);
+    if (trace_order) {
+        trace_order->release(trace_order->total_groups());
+        if (result.first_mismatch)  // named by its place in the trace
+            result.first_mismatch->group = static_cast<PermutedSource&>(*source).trace_index(result.first_mismatch->group);
+    }
     if (stream_progress) stream_progress->finish();
     model_progress.finish();
     if (stream) {

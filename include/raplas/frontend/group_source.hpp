@@ -120,6 +120,31 @@ private:
     const Trace& t_;
 };
 
+// The groups of a whole trace in another order: position i is the trace's
+// group order[i] (a permutation; the model's workload.group_order). The
+// trace's own order is kept for its observers: they are the trace source's.
+class PermutedSource : public GroupSource {
+public:
+    PermutedSource(const Trace& t, std::vector<std::uint32_t> order) : t_(t), order_(std::move(order)) {}
+    const Trace& header() override { return t_; }
+    bool total_known() override { return true; }
+    bool wait_total() override { return true; }
+    std::uint64_t total_groups() override { return order_.size(); }
+    bool wait_for(std::size_t end) override { return end <= order_.size(); }
+    bool wait_there(std::size_t i, const std::atomic<bool>&) override { return i < order_.size(); }
+    bool has(std::size_t end) override { return end <= order_.size(); }
+    const TraceGroup& group(std::size_t i) override { return t_.groups.at(order_.at(i)); }
+    // The trace index of position i.
+    std::uint32_t trace_index(std::size_t i) const { return order_.at(i); }
+
+protected:
+    void free_below(std::size_t) override {}
+
+private:
+    const Trace& t_;
+    std::vector<std::uint32_t> order_;
+};
+
 // What the reports fold over every group as the model releases them, in
 // issue order: the group count, the summed counts and the workload hash.
 struct WorkloadTally {
