@@ -8,8 +8,9 @@
 namespace raplas::model {
 
 namespace {
-// SystemC bookkeeping of an ICC's 13 modules (names, hierarchy, process
-// tables), measured: docs/MEMORY.md.
+// Bookkeeping of an ICC beyond its blocks' sizes, measured when its 13
+// blocks were SystemC modules (names, hierarchy, process tables): a margin
+// now that they are plain classes (docs/MEMORY.md).
 constexpr double kSystemCPerIcc = 8 * 1024;
 }  // namespace
 

@@ -28,19 +28,18 @@ struct Top::Vcd {
 Top::Top(sc_core::sc_module_name n, const SimConfig& cfg, GroupSource& groups, const Functional& f,
          const SimOptions& opt)
     : sc_core::sc_module(n),
-      host("host", Host::Params{cfg.iccs, cfg.pass_overhead_cycles, cfg.overlap_passes}),
-      sphere_memory("sphere_memory", SphereMemory::Params{cfg.sphere_record_bytes}),
-      triangle_memory("triangle_memory", TriangleMemory::Params{cfg.triangle_record_bytes}),
-      sphere_link("sphere_stream_link", StreamLink::Params{cfg.sphere_record_bytes}),
-      triangle_link("triangle_stream_link", StreamLink::Params{cfg.triangle_record_bytes}),
-      iccs("icc"),
+      host(Host::Params{cfg.iccs, cfg.pass_overhead_cycles, cfg.overlap_passes}),
+      sphere_memory(SphereMemory::Params{cfg.sphere_record_bytes}),
+      triangle_memory(TriangleMemory::Params{cfg.triangle_record_bytes}),
+      sphere_link(StreamLink::Params{cfg.sphere_record_bytes}),
+      triangle_link(StreamLink::Params{cfg.triangle_record_bytes}),
       cfg_(cfg),
       groups_(groups),
       trace_(groups.header()),
       functional_(f),
       opt_(opt),
       period_(1.0e6 / cfg.clock_mhz, sc_core::SC_PS) {
-    iccs.init(cfg.iccs, [&](const char* name, std::size_t) { return new Icc(name, cfg.icc, f); });
+    for (std::uint32_t k = 0; k < cfg.iccs; ++k) iccs.emplace_back(cfg.icc, f);
     if (cfg.fault == Fault::stuck_rti) iccs[cfg.fault_icc].rti.set_stuck(true);
     if (cfg.fault == Fault::stuck_psi) iccs[cfg.fault_icc].psi.set_stuck(true);
     if (cfg.fault == Fault::wrong_rti) iccs[cfg.fault_icc].inject_wrong_rti();
@@ -72,8 +71,8 @@ Top::Top(sc_core::sc_module_name n, const SimConfig& cfg, GroupSource& groups, c
     const bool bound = cfg.estimate == Estimate::fifo_bound;
     if (event_mode_ || bound) {
         ref_fifo_ = std::make_unique<SphereFifo>("shared_sphere_fifo", cfg.icc.sphere_fifo);
-        ref_psi_ = std::make_unique<PlaneSphereIntersector>("shared_psi", cfg.icc.psi);
-        ref_decoder_ = std::make_unique<Decoder>("shared_decoder", cfg.icc.decoder);
+        ref_psi_ = std::make_unique<PlaneSphereIntersector>(cfg.icc.psi);
+        ref_decoder_ = std::make_unique<Decoder>(cfg.icc.decoder);
         ref_planeid_ = std::make_unique<Fifo<PlaneIdEntry>>("shared_planeid_fifo", FifoParams{1});
         ref_first_tri_ = std::make_unique<Fifo<FirstTriEntry>>("shared_first_tri_fifo", FifoParams{1});
     }
@@ -138,7 +137,11 @@ void Top::sample_vcd(bool s_valid, bool s_stall, bool t_valid, bool t_stall) {
 }
 
 std::uint64_t Top::progress_signature() const {
-    std::uint64_t sig = sphere_link.position() * 3 + triangle_link.position() * 7;
+    return sphere_link.position() * 3 + triangle_link.position() * 7 + block_progress();
+}
+
+std::uint64_t Top::block_progress() const {
+    std::uint64_t sig = 0;
     for (const auto& icc : iccs) sig += icc.rti.stats().tests + icc.psi.stats().spheres + icc.decoder.stats().decided;
     return sig;
 }
@@ -198,6 +201,18 @@ bool Top::sync_time(std::uint64_t cycle, Watch& w, std::uint64_t extra_progress,
                     const std::function<std::vector<IccView>()>& views) {
     wait(period_ * double(since_sync_));
     since_sync_ = 0;
+    return watchdog_ok(cycle, w, extra_progress, views);
+}
+
+std::vector<IccView> Top::active_views() const {
+    std::vector<IccView> v;
+    for (std::size_t k = 0; k < iccs.size(); ++k)
+        if (iccs[k].active()) v.push_back(view_of(iccs[k], k));
+    return v;
+}
+
+bool Top::watchdog_ok(std::uint64_t cycle, Watch& w, std::uint64_t extra_progress,
+                      const std::function<std::vector<IccView>()>& views) {
     const std::uint64_t sig = progress_signature() + extra_progress;
     if (sig != w.signature || cycle <= cfg_.triangle_lag_cycles) {  // the initial lag is no stall
         w.signature = sig;
@@ -259,12 +274,7 @@ std::uint64_t Top::run_pass(const Host::Pass& p, std::uint8_t buf) {
             for (const auto& c : iccs) drained = drained && (p.drain ? c.drained() : c.drained(prev));
             if (drained) break;
         }
-        if (++since_sync_ >= cfg_.sync_cycles && !sync_time(cycle, watch, 0, [&] {
-                std::vector<IccView> v;
-                for (std::size_t k = 0; k < iccs.size(); ++k)
-                    if (iccs[k].active()) v.push_back(view_of(iccs[k], k));
-                return v;
-            }))
+        if (++since_sync_ >= cfg_.sync_cycles && !sync_time(cycle, watch, 0, [&] { return active_views(); }))
             return cycle;
     }
     for (auto& icc : iccs)

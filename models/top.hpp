@@ -4,12 +4,15 @@
 #pragma once
 
 #include <atomic>
+#include <deque>
 #include <functional>
 #include <memory>
 #include <thread>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include <systemc>
 
 #include "bucket_queue.hpp"
 #include "config.hpp"
@@ -113,7 +116,7 @@ public:
     TriangleMemory triangle_memory;
     StreamLink sphere_link;
     StreamLink triangle_link;
-    sc_core::sc_vector<Icc> iccs;
+    std::deque<Icc> iccs;
 
     const SimResult& result() const { return result_; }
     const std::string& error() const { return error_; }
@@ -147,6 +150,7 @@ private:
     std::string stuck_report(std::uint64_t cycle, const std::vector<IccView>& views) const;
     IccView view_of(const Icc& c, std::size_t k) const;
     std::uint64_t progress_signature() const;
+    std::uint64_t block_progress() const;  // its part from the ICCs' blocks
     // One cycle of both Stream Links: send, stall or idle; s/t get the records sent.
     void broadcast(bool s_has, bool s_ok, bool t_has, bool t_ok, std::int64_t& s, std::int64_t& t);
     // Advances SystemC time by the cycles since the last sync and runs the watchdog.
@@ -159,6 +163,10 @@ private:
     // stack AddressSanitizer does not follow through an unwind).
     [[nodiscard]] bool sync_time(std::uint64_t cycle, Watch& w, std::uint64_t extra_progress,
                    const std::function<std::vector<IccView>()>& views);
+    // The watchdog alone (no time advanced): false when it fired.
+    [[nodiscard]] bool watchdog_ok(std::uint64_t cycle, Watch& w, std::uint64_t extra_progress,
+                                   const std::function<std::vector<IccView>()>& views);
+    std::vector<IccView> active_views() const;
     void setup_vcd();
     void sample_vcd(bool s_valid, bool s_stall, bool t_valid, bool t_stall);
 
