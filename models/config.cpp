@@ -101,8 +101,9 @@ ParamSet machine_params() {
                "finds the pair-less spheres a trace in the model's format carries)");
     p.add_string("sim.mode", std::string("event"),
                  "cycle = step every block every clock cycle; event = exact event-driven stepping that skips "
-                 "what cannot change (same cycle counts and statistics; --vcd forces cycle)",
-                 {"cycle", "event"});
+                 "what cannot change; netlist = the machine as SystemC modules with ports, channels and one "
+                 "clock, memories behind TLM-2.0 (same cycle counts and statistics in all three; --vcd forces cycle)",
+                 {"cycle", "event", "netlist"});
     p.add_string("sim.estimate", std::string("exact"),
                  "exact = simulate every pass; sample_passes = simulate every primary pass and a stratified "
                  "sample of the shadow passes and extrapolate total cycles, with a 95 % confidence half-width "
@@ -191,7 +192,8 @@ SimConfig config_from_params(const ParamSet& p) {
     c.format = numerics_from_params(p);
     c.functional = p.get_string("sim.functional") == "trace" ? FunctionalMode::trace : FunctionalMode::compute;
     c.cull = p.get_bool("sim.cull");
-    c.mode = p.get_string("sim.mode") == "event" ? SimMode::event : SimMode::cycle;
+    const std::string mode = p.get_string("sim.mode");
+    c.mode = mode == "event" ? SimMode::event : mode == "netlist" ? SimMode::netlist : SimMode::cycle;
     c.sync_cycles = std::uint64_t(p.get_int("sim.sync_cycles"));
     const std::string estimate = p.get_string("sim.estimate");
     c.estimate = estimate == "sample_passes" ? Estimate::sample_passes

@@ -5,7 +5,8 @@
 // machine of its own; the ICC holds them and, for the cycle and event
 // engines, steps them once per clock cycle, from the back of the pipeline to
 // the front, so that a value written in cycle c is seen by the next block in
-// cycle c+1.
+// cycle c+1. The netlist (models/netlist/) wraps the same blocks in SystemC
+// modules with ports.
 #pragma once
 
 #include <memory>

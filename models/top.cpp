@@ -1,5 +1,7 @@
 #include "top.hpp"
 
+#include "netlist/netlist.hpp"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -61,6 +63,28 @@ Top::Top(sc_core::sc_module_name n, const SimConfig& cfg, GroupSource& groups, c
     if (!opt_.vcd_path.empty()) setup_vcd();
     // The event-driven mode is exact; waveforms and per-cycle hooks need every cycle.
     event_mode_ = cfg.mode == SimMode::event && !vcd_ && !opt_.on_cycle;
+    if (cfg.mode == SimMode::netlist && cfg.estimate != Estimate::fifo_bound) {
+        netlist_ = std::make_unique<netlist::Netlist>(
+            cfg, netlist::MachineState{iccs, sphere_link, triangle_link, sphere_memory, triangle_memory},
+            f.mode() == FunctionalMode::trace, opt_.bind_sphere_memory, opt_.bind_triangle_memory);
+        netlist::HostModule& h = netlist_->host;
+        h.check = [this](std::uint64_t cycle) {
+            if (++since_sync_ < cfg_.sync_cycles) return true;
+            since_sync_ = 0;
+            return watchdog_ok(cycle, netlist_watch_, 0, [&] { return active_views(); });
+        };
+        if (opt_.on_cycle)
+            h.each_cycle = [this](std::uint64_t cycle) {
+                std::int64_t sent[2] = {-1, -1};
+                const StreamLink* links[2] = {&sphere_link, &triangle_link};
+                for (int i = 0; i < 2; ++i)
+                    if (links[i]->stats().records_sent != netlist_sent_[i]) {
+                        netlist_sent_[i] = links[i]->stats().records_sent;
+                        sent[i] = std::int64_t(links[i]->position()) - 1;
+                    }
+                opt_.on_cycle(*this, cycle - 1, sent[0], sent[1]);
+            };
+    }
     // In the event-driven mode a group's ray-triangle answers are found when
     // it is loaded, on the loading threads (Icc::answer_at_load). Not for an
     // ICC with an injected wrong answer: whether it fires in a pass depends on
@@ -282,6 +306,20 @@ std::uint64_t Top::run_pass(const Host::Pass& p, std::uint8_t buf) {
     return cycle;
 }
 
+std::uint64_t Top::run_pass_netlist(const Host::Pass& p, std::uint8_t buf) {
+    std::vector<const TraceGroup*> g(iccs.size(), nullptr);
+    for (std::size_t k = 0; k < iccs.size(); ++k)
+        if (p.begin + k < p.end) g[k] = &groups_.group(p.begin + std::uint32_t(k));
+    netlist_watch_ = Watch{block_progress(), 0};  // (both links start at record 0)
+    netlist_sent_[0] = sphere_link.stats().records_sent;
+    netlist_sent_[1] = triangle_link.stats().records_sent;
+    const std::uint64_t cycle = netlist_->host.control->run_pass(g, buf, cfg_.overlap_passes, p.drain);
+    if (!error_.empty()) return cycle;  // the watchdog fired
+    for (auto& icc : iccs)
+        if (!icc.active()) icc.add_idle(cycle);
+    return cycle;
+}
+
 void Top::end_pass(const Host::Pass& p) {
     for (std::size_t k = 0; k < p.end - p.begin; ++k) iccs[k].finish_pass(pass_len_, triangle_memory.size());
 }
@@ -289,7 +327,8 @@ void Top::end_pass(const Host::Pass& p) {
 void Top::check_pass(const Host::Pass& p, std::uint8_t buf) {
     for (std::size_t k = 0; k < p.end - p.begin; ++k) {
         const TraceGroup& g = groups_.group(p.begin + k);
-        const std::vector<Hit>& hits = iccs[k].results(g, buf);
+        const std::vector<Hit>& hits =
+            netlist_ ? netlist_->host.control->results(k, g, buf) : iccs[k].results(g, buf);
         if (functional_.mode() != FunctionalMode::compute) continue;
         for (std::uint32_t v = 0; v < g.n; ++v)
             for (std::uint32_t h = 0; h < g.n; ++h) {
@@ -422,6 +461,7 @@ void Top::run() {
         error_ = e.what();
     }
     // (every load has ended: the next pass's is waited for before run_passes returns)
+    if (netlist_) sc_core::sc_stop();  // (its clock would run on)
     result_.loads_cpu_s = 1e-9 * double(loads_cpu_ns_.load());
     result_.model_cpu_s = std::max(0.0, thread_cpu_s() - cpu0 - 1e-9 * double(loads_cpu_model_ns_.load()));
     // sc_start() returns when no event is left. The thread parks here for good
@@ -517,7 +557,7 @@ void Top::run_passes() {
                     preload(next, nb);
                 });
             }
-            c = event_mode_ ? run_pass_event(pass, buf) : run_pass(pass, buf);
+            c = event_mode_ ? run_pass_event(pass, buf) : netlist_ ? run_pass_netlist(pass, buf) : run_pass(pass, buf);
             if (!error_.empty()) break;  // the watchdog fired
             pass_len_ = c;
             end_pass(pass);
@@ -536,8 +576,10 @@ void Top::run_passes() {
     if (!error_.empty()) return;
     groups_.release(groups_.total_groups());
     for (auto& icc : iccs) icc.finish_run();
-    if (since_sync_) wait(period_ * double(since_sync_));
-    if (cfg_.pass_overhead_cycles) wait(period_ * double(cfg_.pass_overhead_cycles * chosen.size()));
+    if (!netlist_) {  // (the netlist's clock has advanced time cycle by cycle)
+        if (since_sync_) wait(period_ * double(since_sync_));
+        if (cfg_.pass_overhead_cycles) wait(period_ * double(cfg_.pass_overhead_cycles * chosen.size()));
+    }
     result_.total_cycles = total;
     if (bound) result_.estimated = result_.lower_bound = true;
     if (cfg_.estimate == Estimate::sample_passes && chosen.size() < passes.size()) extrapolate(passes);

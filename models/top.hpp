@@ -13,6 +13,7 @@
 #include <vector>
 
 #include <systemc>
+#include <tlm>
 
 #include "bucket_queue.hpp"
 #include "config.hpp"
@@ -25,6 +26,12 @@
 #include "watchdog.hpp"
 
 namespace raplas::model {
+
+namespace netlist {
+class Netlist;
+template <class Mem>
+class MemoryTarget;
+}  // namespace netlist
 
 struct IccSnapshot {
     Icc::Stats icc;
@@ -91,6 +98,14 @@ struct SimOptions {
     // Called after every cycle with the records broadcast in it (-1: none);
     // for tests and debugging (slows the simulation down).
     std::function<void(const class Top&, std::uint64_t cycle, std::int64_t sphere, std::int64_t tri)> on_cycle;
+    // sim.mode = netlist: binds the Sphere (Triangle) Stream Link's TLM-2.0
+    // initiator socket to a memory model of the caller's instead of the
+    // default target; called during elaboration with the socket and the
+    // default target, which holds the records (a model may forward its reads
+    // to it). Empty: the default target (docs/MODEL.md §2).
+    std::function<void(tlm::tlm_initiator_socket<>& link, netlist::MemoryTarget<SphereMemory>& memory)> bind_sphere_memory;
+    std::function<void(tlm::tlm_initiator_socket<>& link, netlist::MemoryTarget<TriangleMemory>& memory)>
+        bind_triangle_memory;
 };
 
 // The passes a run simulates (indices into `passes`, ascending): every one;
@@ -129,6 +144,8 @@ private:
     // Pass p with its groups in Ray / Min-distance Memory buffer `buf`.
     std::uint64_t run_pass(const Host::Pass& p, std::uint8_t buf);
     std::uint64_t run_pass_event(const Host::Pass& p, std::uint8_t buf);
+    // sim.mode = netlist: the pass run by the netlist's Host.
+    std::uint64_t run_pass_netlist(const Host::Pass& p, std::uint8_t buf);
     // sim.estimate = fifo_bound: the pass's cycles with unbounded Triangle,
     // PlaneID and First-Triangle-ID FIFOs, in closed form (bound_engine.cpp).
     std::uint64_t run_pass_bound(const Host::Pass& p);
@@ -187,6 +204,11 @@ private:
 
     struct Vcd;
     std::unique_ptr<Vcd> vcd_;
+    // sim.mode = netlist: the machine as modules with ports (models/netlist/),
+    // and the watchdog's record of the pass it runs.
+    std::unique_ptr<netlist::Netlist> netlist_;
+    Watch netlist_watch_;
+    std::uint64_t netlist_sent_[2] = {0, 0};  // records sent by the links (on_cycle)
     // Event mode: the sphere side shared by every ICC that was never held.
     bool event_mode_ = false;
     std::unique_ptr<SphereFifo> ref_fifo_;

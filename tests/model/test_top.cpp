@@ -285,9 +285,11 @@ TEST(TopBound, OverlappedPassesInClosedFormEqualTheExactCountWhenNoFifoFills) {
     EXPECT_EQ(r.total_cycles, (L + 3 + 2 * Sm + Lr) + (Sm + Lr + L + 3));
 }
 
-INSTANTIATE_TEST_SUITE_P(Modes, TopClosedForm, ::testing::Values(SimMode::cycle, SimMode::event),
+INSTANTIATE_TEST_SUITE_P(Modes, TopClosedForm, ::testing::Values(SimMode::cycle, SimMode::event, SimMode::netlist),
                          [](const ::testing::TestParamInfo<SimMode>& i) {
-                             return std::string(i.param == SimMode::cycle ? "cycle" : "event");
+                             return std::string(i.param == SimMode::cycle   ? "cycle"
+                                                : i.param == SimMode::event ? "event"
+                                                                            : "netlist");
                          });
 
 TEST(TopStall, AFullTriangleFifoStopsTheBroadcastForEveryIccInTheSameCycle) {
