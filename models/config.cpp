@@ -102,7 +102,7 @@ ParamSet machine_params() {
     p.add_string("sim.mode", std::string("event"),
                  "cycle = step every block every clock cycle; event = exact event-driven stepping that skips "
                  "what cannot change; netlist = the machine as SystemC modules with ports, channels and one "
-                 "clock, memories behind TLM-2.0 (same cycle counts and statistics in all three; --vcd forces cycle)",
+                 "clock, memories behind TLM-2.0 (same cycle counts and statistics in all three; --vcd runs the netlist)",
                  {"cycle", "event", "netlist"});
     p.add_string("sim.estimate", std::string("exact"),
                  "exact = simulate every pass; sample_passes = simulate every primary pass and a stratified "
@@ -114,7 +114,7 @@ ParamSet machine_params() {
                  {"exact", "sample_passes", "fifo_bound"});
     p.add_real("sim.sample_fraction", 0.1, 1e-6, 1.0, "sample_passes: fraction of the shadow passes simulated (at least 2)");
     p.add_int("sim.sample_seed", 1, 0, 1000000000, "sample_passes: seeds the pass drawn in each stratum");
-    p.add_int("sim.sync_cycles", 4096, 1, 1000000000, "cycles simulated between SystemC time updates (1 with --vcd)");
+    p.add_int("sim.sync_cycles", 4096, 1, 1000000000, "cycles between watchdog checks, and (cycle and event modes) between SystemC time updates");
     p.add_int("sim.watchdog_cycles", 1000000, 1, 1000000000000,
               "stop with an error when nothing moves for this many cycles");
     add_memory_system_params(p);

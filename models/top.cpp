@@ -21,10 +21,6 @@ namespace raplas::model {
 struct Top::Vcd {
     sc_core::sc_trace_file* file = nullptr;
     std::string tmp_base, final_path;
-    std::uint32_t pass = 0;
-    bool s_valid = false, s_stall = false, t_valid = false, t_stall = false;
-    std::uint32_t s_index = 0, t_index = 0;
-    std::vector<std::uint32_t> sphere_fifo, planeid_fifo, triangle_fifo, rti_inflight, decided;
 };
 
 Top::Top(sc_core::sc_module_name n, const SimConfig& cfg, GroupSource& groups, const Functional& f,
@@ -60,10 +56,11 @@ Top::Top(sc_core::sc_module_name n, const SimConfig& cfg, GroupSource& groups, c
     if (cfg.estimate == Estimate::fifo_bound && (!opt_.vcd_path.empty() || opt_.on_cycle))
         throw InputError("sim.estimate = fifo_bound computes the cycles in closed form: no waveform (--vcd) or "
                          "per-cycle hook; use sim.estimate = exact");
-    if (!opt_.vcd_path.empty()) setup_vcd();
-    // The event-driven mode is exact; waveforms and per-cycle hooks need every cycle.
-    event_mode_ = cfg.mode == SimMode::event && !vcd_ && !opt_.on_cycle;
-    if (cfg.mode == SimMode::netlist && cfg.estimate != Estimate::fifo_bound) {
+    // The event-driven mode is exact; per-cycle hooks need every cycle, and a
+    // waveform the netlist's signals.
+    const bool waveform = !opt_.vcd_path.empty();
+    event_mode_ = cfg.mode == SimMode::event && !waveform && !opt_.on_cycle;
+    if ((cfg.mode == SimMode::netlist || waveform) && cfg.estimate != Estimate::fifo_bound) {
         netlist_ = std::make_unique<netlist::Netlist>(
             cfg, netlist::MachineState{iccs, sphere_link, triangle_link, sphere_memory, triangle_memory},
             f.mode() == FunctionalMode::trace, opt_.bind_sphere_memory, opt_.bind_triangle_memory);
@@ -85,6 +82,7 @@ Top::Top(sc_core::sc_module_name n, const SimConfig& cfg, GroupSource& groups, c
                 opt_.on_cycle(*this, cycle - 1, sent[0], sent[1]);
             };
     }
+    if (waveform) setup_vcd();
     // In the event-driven mode a group's ray-triangle answers are found when
     // it is loaded, on the loading threads (Icc::answer_at_load). Not for an
     // ICC with an injected wrong answer: whether it fires in a pass depends on
@@ -119,45 +117,7 @@ void Top::setup_vcd() {
     vcd_->file = sc_core::sc_create_vcd_trace_file(vcd_->tmp_base.c_str());
     if (!vcd_->file) throw InputError(opt_.vcd_path + ": cannot create VCD file");
     vcd_->file->set_time_unit(1, sc_core::SC_PS);
-    auto* f = vcd_->file;
-    sc_core::sc_trace(f, vcd_->pass, "host.pass");
-    sc_core::sc_trace(f, vcd_->s_valid, "sphere_stream_link.valid");
-    sc_core::sc_trace(f, vcd_->s_stall, "sphere_stream_link.stall");
-    sc_core::sc_trace(f, vcd_->s_index, "sphere_stream_link.index");
-    sc_core::sc_trace(f, vcd_->t_valid, "triangle_stream_link.valid");
-    sc_core::sc_trace(f, vcd_->t_stall, "triangle_stream_link.stall");
-    sc_core::sc_trace(f, vcd_->t_index, "triangle_stream_link.index");
-    const std::size_t shown = std::min<std::size_t>(iccs.size(), 16);
-    vcd_->sphere_fifo.assign(shown, 0);
-    vcd_->planeid_fifo.assign(shown, 0);
-    vcd_->triangle_fifo.assign(shown, 0);
-    vcd_->rti_inflight.assign(shown, 0);
-    vcd_->decided.assign(shown, 0);
-    for (std::size_t k = 0; k < shown; ++k) {
-        std::string p = "icc_" + std::to_string(k) + ".";
-        sc_core::sc_trace(f, vcd_->sphere_fifo[k], p + "sphere_fifo.occupancy");
-        sc_core::sc_trace(f, vcd_->planeid_fifo[k], p + "planeid_fifo.occupancy");
-        sc_core::sc_trace(f, vcd_->triangle_fifo[k], p + "triangle_fifo.occupancy");
-        sc_core::sc_trace(f, vcd_->rti_inflight[k], p + "rti.inflight");
-        sc_core::sc_trace(f, vcd_->decided[k], p + "decoder.decided");
-    }
-    cfg_.sync_cycles = 1;
-}
-
-void Top::sample_vcd(bool s_valid, bool s_stall, bool t_valid, bool t_stall) {
-    vcd_->s_valid = s_valid;
-    vcd_->s_stall = s_stall;
-    vcd_->t_valid = t_valid;
-    vcd_->t_stall = t_stall;
-    vcd_->s_index = std::uint32_t(sphere_link.position());
-    vcd_->t_index = std::uint32_t(triangle_link.position());
-    for (std::size_t k = 0; k < vcd_->sphere_fifo.size(); ++k) {
-        vcd_->sphere_fifo[k] = iccs[k].sphere_fifo.size();
-        vcd_->planeid_fifo[k] = iccs[k].planeid_fifo.size();
-        vcd_->triangle_fifo[k] = iccs[k].triangle_fifo.size();
-        vcd_->rti_inflight[k] = iccs[k].rti.inflight();
-        vcd_->decided[k] = iccs[k].decoder.decided();
-    }
+    netlist_->trace(vcd_->file);  // every signal, port and FIFO, by hierarchical name
 }
 
 std::uint64_t Top::progress_signature() const {
@@ -283,12 +243,10 @@ std::uint64_t Top::run_pass(const Host::Pass& p, std::uint8_t buf) {
             for (Icc* c : active)
                 if (!c->triangle_ready(ts)) c->note_triangle_blocked(ts);
         broadcast(s_has, s_ok, t_has, t_ok, s, t);
-        const bool s_stall = s_has && !s_ok, t_stall = t_has && !t_ok;
         const bool spheres_pending = sphere_link.has_record();
         for (Icc* c : active) c->tick(s, t, ts, info, spheres_pending);
         for (Icc* c : draining) c->tick_back(-1, 0);
         ++cycle;
-        if (vcd_) sample_vcd(s >= 0, s_stall, t >= 0, t_stall);
         if (opt_.on_cycle) opt_.on_cycle(*this, cycle - 1, s, t);
         if (!sphere_link.has_record() && !triangle_link.has_record()) {
             // The pass ends when its streams are done and every ICC has
@@ -537,7 +495,6 @@ void Top::run_passes() {
             c = run_pass_bound(pass);
             since_sync_ += c;
         } else {
-            if (vcd_) vcd_->pass = std::uint32_t(i);
             {  // (the wait for this pass's groups to be loaded, timed)
                 const ScopeWall timed(result_.load_waits_s);
                 if (ahead.valid()) ahead.get();

@@ -184,8 +184,7 @@ private:
     [[nodiscard]] bool watchdog_ok(std::uint64_t cycle, Watch& w, std::uint64_t extra_progress,
                                    const std::function<std::vector<IccView>()>& views);
     std::vector<IccView> active_views() const;
-    void setup_vcd();
-    void sample_vcd(bool s_valid, bool s_stall, bool t_valid, bool t_stall);
+    void setup_vcd();  // --vcd: the netlist's signals
 
     SimConfig cfg_;
     GroupSource& groups_;

@@ -10,7 +10,7 @@ namespace {
 
 sc_core::sc_time period_of(const SimConfig& cfg) { return sc_core::sc_time(1.0e6 / cfg.clock_mhz, sc_core::SC_PS); }
 
-// Traces `o` when it is a port or signal of one of the types T... .
+// Traces `o` when it is a signal or port of one of the types T... .
 template <class... T>
 struct Tracer {
     static bool trace(sc_core::sc_trace_file* tf, sc_core::sc_object* o) {
@@ -18,6 +18,10 @@ struct Tracer {
     }
     template <class U>
     static bool try_one(sc_core::sc_trace_file* tf, sc_core::sc_object* o) {
+        if (auto* s = dynamic_cast<sc_core::sc_signal_in_if<U>*>(o)) {  // a signal (or the clock)
+            sc_core::sc_trace(tf, *s, o->name());
+            return true;
+        }
         if (auto* p = dynamic_cast<sc_core::sc_in<U>*>(o)) {
             sc_core::sc_trace(tf, *p, p->name());
             return true;
@@ -34,7 +38,8 @@ using Traced = Tracer<bool, std::uint8_t, std::uint32_t, LinkRecord, PsiOut, Rti
 // (an sc_vector lists its elements as its children, which are its parent's too: each once)
 void trace_tree(sc_core::sc_trace_file* tf, sc_core::sc_object* o, std::set<sc_core::sc_object*>& seen) {
     if (!seen.insert(o).second) return;
-    if (!Traced::trace(tf, o)) o->trace(tf);  // signals and FIFO channels trace themselves
+    if (Traced::trace(tf, o)) return;
+    if (dynamic_cast<sc_core::sc_prim_channel*>(o)) o->trace(tf);  // the FIFO channels trace themselves
     for (sc_core::sc_object* c : o->get_child_objects()) trace_tree(tf, c, seen);
 }
 

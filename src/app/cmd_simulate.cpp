@@ -41,7 +41,7 @@ void add_simulate_options(CLI::App* cmd, SimulateArgs& a) {
         ->check(count_check(100000000, false));
     cmd->add_option("--json", a.json, "all statistics as JSON");
     cmd->add_option("--csv", a.csv, "the main figures as one CSV row with a header");
-    cmd->add_option("--vcd", a.vcd, "VCD waveform of the top-level handshakes (GTKWave)");
+    cmd->add_option("--vcd", a.vcd, "VCD waveform of every signal, port and FIFO of the netlist (GTKWave; runs sim.mode = netlist)");
     cmd->add_option("--shard", a.shard,
                     "I/N: simulate only shard I of N, the passes p with p mod N = I, and write its partial result to "
                     "--json for raplas merge (docs/SHARDING.md)");
