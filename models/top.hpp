@@ -102,10 +102,12 @@ struct SimOptions {
     // initiator socket to a memory model of the caller's instead of the
     // default target; called during elaboration with the socket and the
     // default target, which holds the records (a model may forward its reads
-    // to it). Empty: the default target (docs/MODEL.md §2).
-    std::function<void(tlm::tlm_initiator_socket<>& link, netlist::MemoryTarget<SphereMemory>& memory)> bind_sphere_memory;
-    std::function<void(tlm::tlm_initiator_socket<>& link, netlist::MemoryTarget<TriangleMemory>& memory)>
-        bind_triangle_memory;
+    // to it); returns the module it made, which the netlist owns.
+    // Empty: the default target (docs/MODEL.md §2, "Binding a memory model").
+    template <class Target>
+    using BindMemory = std::function<std::unique_ptr<sc_core::sc_module>(tlm::tlm_initiator_socket<>& link, Target& memory)>;
+    BindMemory<netlist::MemoryTarget<SphereMemory>> bind_sphere_memory;
+    BindMemory<netlist::MemoryTarget<TriangleMemory>> bind_triangle_memory;
 };
 
 // The passes a run simulates (indices into `passes`, ascending): every one;

@@ -36,7 +36,8 @@ struct TriangleRecord {
 template <class Mem>
 class MemoryTarget : public sc_core::sc_module {
 public:
-    tlm_utils::simple_target_socket<MemoryTarget> socket;
+    // (optional: a memory model bound in its place need not forward to it)
+    tlm_utils::simple_target_socket_optional<MemoryTarget> socket;
 
     MemoryTarget(sc_core::sc_module_name n, Mem& mem, std::uint32_t record_bytes)
         : sc_core::sc_module(n), socket("socket"), mem_(mem), record_bytes_(record_bytes) {

@@ -79,9 +79,9 @@ Netlist::Netlist(const SimConfig& cfg, const MachineState& state, bool results_f
     host.sphere_done(sphere_done);
     host.triangle_done(triangle_done);
 
-    if (bind_spheres) bind_spheres(sphere_link.memory, sphere_memory);
+    if (bind_spheres) memory_models_.push_back(bind_spheres(sphere_link.memory, sphere_memory));
     else sphere_link.memory.bind(sphere_memory.socket);
-    if (bind_triangles) bind_triangles(triangle_link.memory, triangle_memory);
+    if (bind_triangles) memory_models_.push_back(bind_triangles(triangle_link.memory, triangle_memory));
     else triangle_link.memory.bind(triangle_memory.socket);
 
     sphere_link.clk(clock);

@@ -13,6 +13,8 @@
 
 #include <deque>
 #include <functional>
+#include <memory>
+#include <vector>
 
 #include "host_module.hpp"
 #include "icc_module.hpp"
@@ -26,11 +28,17 @@ struct SimConfig;
 
 namespace raplas::model::netlist {
 
-// Binds a Stream Link's initiator socket to a memory; the default binds it
-// to the default target (docs/MODEL.md §2, "Binding a memory model").
+// Binds a Stream Link's initiator socket `link` to a memory model: called
+// during elaboration (a module it creates becomes a child of the top module)
+// with the default target `memory`, which holds the records (a model may
+// forward its reads to it). It returns the module it made, which the netlist
+// then owns (or null). Empty: `link` is bound to `memory` (docs/MODEL.md §2,
+// "Binding a memory model").
 using LinkSocket = tlm::tlm_initiator_socket<>;
-using BindSphereMemory = std::function<void(LinkSocket& link, SphereMemoryTarget& memory)>;
-using BindTriangleMemory = std::function<void(LinkSocket& link, TriangleMemoryTarget& memory)>;
+template <class Target>
+using BindMemory = std::function<std::unique_ptr<sc_core::sc_module>(LinkSocket& link, Target& memory)>;
+using BindSphereMemory = BindMemory<SphereMemoryTarget>;
+using BindTriangleMemory = BindMemory<TriangleMemoryTarget>;
 
 // The state the netlist's modules step: the blocks of the other engines.
 struct MachineState {
@@ -65,6 +73,9 @@ public:
     SphereStreamLink sphere_link;
     TriangleStreamLink triangle_link;
     sc_core::sc_vector<IccModule> iccs;
+
+private:
+    std::vector<std::unique_ptr<sc_core::sc_module>> memory_models_;  // bound by the caller (destroyed first)
 };
 
 }  // namespace raplas::model::netlist
