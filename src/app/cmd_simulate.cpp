@@ -116,7 +116,9 @@ int cmd_simulate(const SimulateArgs& a) {
         std::cout << mp.dump();
         return 0;
     }
-    const model::SimConfig cfg = model::config_from_params(mp);
+    model::SimConfig cfg = model::config_from_params(mp);
+    if (!a.vcd.empty() && cfg.estimate != model::Estimate::fifo_bound)
+        cfg.mode = model::SimMode::netlist;  // a waveform is the netlist's (its memory counted so)
     if (!a.frames.empty()) return simulate_frames(a, so);
     if (a.shards || !a.emit_jobs.empty()) return emit_shard_jobs(a, mp, cfg);
     if (a.sample_front_end) {
