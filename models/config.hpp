@@ -11,7 +11,7 @@
 
 namespace raplas::model {
 
-enum class SimMode { cycle, event, netlist };
+enum class SimMode { event, netlist };
 enum class Estimate { exact, sample_passes, fifo_bound };
 
 // The memory system (paper Figure 5, §5.2; docs/MODEL.md §6): the streaming

@@ -125,8 +125,8 @@ public:
     }
     // One clock cycle: takes the PSI's result, if any, and queues it when it
     // is kept. Returns true when the PSI must hold this cycle. The
-    // neighbours are the blocks themselves (cycle and event engines) or the
-    // netlist's views of its ports (models/netlist/decoder.hpp).
+    // neighbours are the blocks themselves (event engine) or the netlist's
+    // views of its ports (models/netlist/decoder_module.hpp).
     template <class Psi, class PlaneIds, class FirstIds, class SphereInfo>
     bool tick(Psi& psi, PlaneIds& plane_ids, FirstIds& first_ids, const SphereInfo& info) {
         if (!psi.has_output()) return false;

@@ -2,11 +2,11 @@
 // Plane-Sphere Intersectors, Decoder, PlaneID FIFO, First-Triangle-ID FIFO,
 // Triangle Selector + Triangle FIFO, Ray Data Fetcher, Ray-Triangle
 // Intersector, Min-distance Memory, Output Link. Each block is a C++ state
-// machine of its own; the ICC holds them and, for the cycle and event
-// engines, steps them once per clock cycle, from the back of the pipeline to
-// the front, so that a value written in cycle c is seen by the next block in
-// cycle c+1. The netlist (models/netlist/) wraps the same blocks in SystemC
-// modules with ports.
+// machine of its own; the ICC holds them, with its group state. The netlist
+// (models/netlist/) wraps each block in a SystemC module with ports that
+// steps it once per clock cycle; the event engine (event_engine.cpp) steps
+// them only when something can change, an ICC's front end (tick_front) in
+// the order of the netlist's cycle: Decoder, PSI, Sphere Selector.
 #pragma once
 
 #include <memory>
@@ -150,25 +150,6 @@ public:
         triangle_selector.note_blocked(sphere, decoder.decided(), triangle_fifo);
     }
 
-    // One clock cycle. `sphere` / `tri` are the records broadcast this cycle (-1: none).
-    void tick(std::int64_t sphere, std::int64_t tri, std::uint32_t tri_sphere, const SphereInfo& info,
-              bool spheres_pending) {
-        tick_back(tri, tri_sphere);
-        tick_front(sphere, info, spheres_pending);
-    }
-    // The blocks behind the Decoder: RTI, Ray Data Fetcher, Triangle Selector.
-    void tick_back(std::int64_t tri, std::uint32_t tri_sphere) {
-        if (!back_idle()) {  // else nothing behind the Selector
-            GroupUnit* const units[2] = {units_[0].get(), units_[1].get()};
-            MinDistanceMemory* const mems[2] = {&min_distance_0, &min_distance_1};
-            rti.retire(units, mems);
-            ray_data_fetcher.tick(triangle_fifo, rti);
-            rti.advance();
-        }
-        if (tri >= 0)
-            triangle_selector.receive(active(), std::uint32_t(tri), tri_sphere, planeid_fifo, first_tri_fifo, triangle_fifo,
-                                      buf_);
-    }
     // Decoder, PSI and Sphere Selector.
     void tick_front(std::int64_t sphere, const SphereInfo& info, bool spheres_pending) {
         const bool hold = decoder.tick(psi, planeid_fifo, first_tri_fifo, info);

@@ -57,10 +57,10 @@ Top::Top(sc_core::sc_module_name n, const SimConfig& cfg, GroupSource& groups, c
         throw InputError("sim.estimate = fifo_bound computes the cycles in closed form: no waveform (--vcd) or "
                          "per-cycle hook; use sim.estimate = exact");
     // The event-driven mode is exact; per-cycle hooks need every cycle, and a
-    // waveform the netlist's signals.
+    // waveform the netlist's signals: they run the netlist.
     const bool waveform = !opt_.vcd_path.empty();
     event_mode_ = cfg.mode == SimMode::event && !waveform && !opt_.on_cycle;
-    if ((cfg.mode == SimMode::netlist || waveform) && cfg.estimate != Estimate::fifo_bound) {
+    if (!event_mode_ && cfg.estimate != Estimate::fifo_bound) {
         netlist_ = std::make_unique<netlist::Netlist>(
             cfg, netlist::MachineState{iccs, sphere_link, triangle_link, sphere_memory, triangle_memory},
             f.mode() == FunctionalMode::trace, opt_.bind_sphere_memory, opt_.bind_triangle_memory);
@@ -206,62 +206,6 @@ bool Top::watchdog_ok(std::uint64_t cycle, Watch& w, std::uint64_t extra_progres
         return false;
     }
     return true;
-}
-
-std::uint64_t Top::run_pass(const Host::Pass& p, std::uint8_t buf) {
-    std::vector<Icc*> active, draining;
-    for (std::size_t k = 0; k < iccs.size(); ++k) {
-        const std::uint32_t gi = p.begin + std::uint32_t(k);
-        const TraceGroup* g = gi < p.end ? &groups_.group(gi) : nullptr;
-        iccs[k].start_pass(g, buf, cfg_.overlap_passes);
-        if (g) active.push_back(&iccs[k]);
-        else if (!iccs[k].drained()) draining.push_back(&iccs[k]);  // the previous pass's work (overlap)
-    }
-    const std::uint8_t prev = buf ^ 1;
-    sphere_link.start_pass(sphere_memory.size());
-    triangle_link.start_pass(triangle_memory.size());
-    const SphereInfo info{&sphere_memory};
-    std::uint64_t cycle = 0;
-    Watch watch{progress_signature(), 0};
-    for (;;) {
-        std::int64_t s = -1, t = -1;
-        const bool s_has = sphere_link.has_record();
-        const bool t_has = triangle_link.has_record() && cycle >= cfg_.triangle_lag_cycles;
-        const std::uint32_t ti = std::uint32_t(triangle_link.position());
-        const std::uint32_t ts = t_has ? triangle_memory.sphere_of(ti) : 0;
-        // Every ICC must be able to take a record for it to be broadcast
-        // (judged on the state at the start of the cycle).
-        bool s_ok = s_has, t_ok = t_has;
-        for (Icc* c : active) {
-            s_ok = s_ok && c->sphere_ready();
-            t_ok = t_ok && c->triangle_ready(ts);
-        }
-        if (s_has && !s_ok)
-            for (Icc* c : active)
-                if (!c->sphere_ready()) c->note_sphere_blocked();
-        if (t_has && !t_ok)
-            for (Icc* c : active)
-                if (!c->triangle_ready(ts)) c->note_triangle_blocked(ts);
-        broadcast(s_has, s_ok, t_has, t_ok, s, t);
-        const bool spheres_pending = sphere_link.has_record();
-        for (Icc* c : active) c->tick(s, t, ts, info, spheres_pending);
-        for (Icc* c : draining) c->tick_back(-1, 0);
-        ++cycle;
-        if (opt_.on_cycle) opt_.on_cycle(*this, cycle - 1, s, t);
-        if (!sphere_link.has_record() && !triangle_link.has_record()) {
-            // The pass ends when its streams are done and every ICC has
-            // drained: all of its work, or (overlapped passes) the previous
-            // pass's, whose buffer the next pass needs.
-            bool drained = true;
-            for (const auto& c : iccs) drained = drained && (p.drain ? c.drained() : c.drained(prev));
-            if (drained) break;
-        }
-        if (++since_sync_ >= cfg_.sync_cycles && !sync_time(cycle, watch, 0, [&] { return active_views(); }))
-            return cycle;
-    }
-    for (auto& icc : iccs)
-        if (!icc.active()) icc.add_idle(cycle);
-    return cycle;
 }
 
 std::uint64_t Top::run_pass_netlist(const Host::Pass& p, std::uint8_t buf) {
@@ -514,7 +458,7 @@ void Top::run_passes() {
                     preload(next, nb);
                 });
             }
-            c = event_mode_ ? run_pass_event(pass, buf) : netlist_ ? run_pass_netlist(pass, buf) : run_pass(pass, buf);
+            c = event_mode_ ? run_pass_event(pass, buf) : run_pass_netlist(pass, buf);
             if (!error_.empty()) break;  // the watchdog fired
             pass_len_ = c;
             end_pass(pass);

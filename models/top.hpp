@@ -143,10 +143,9 @@ private:
     // Every pass (or a sample under sim.estimate = sample_passes, or a
     // shard's), simulated, each pass's groups released once checked.
     void run_passes();
-    // Pass p with its groups in Ray / Min-distance Memory buffer `buf`.
-    std::uint64_t run_pass(const Host::Pass& p, std::uint8_t buf);
+    // Pass p with its groups in Ray / Min-distance Memory buffer `buf`:
+    // stepped by the event engine (event_engine.cpp), or run by the netlist's Host.
     std::uint64_t run_pass_event(const Host::Pass& p, std::uint8_t buf);
-    // sim.mode = netlist: the pass run by the netlist's Host.
     std::uint64_t run_pass_netlist(const Host::Pass& p, std::uint8_t buf);
     // sim.estimate = fifo_bound: the pass's cycles with unbounded Triangle,
     // PlaneID and First-Triangle-ID FIFOs, in closed form (bound_engine.cpp).

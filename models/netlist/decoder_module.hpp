@@ -3,7 +3,7 @@
 // full at the start of the cycle and not popped by the Triangle Selector in
 // it (`planeid_pop`, itself combinational: it depends on the triangle
 // broadcast). At the clock edge it takes the result (Decoder, shared with
-// the other engines): queues it through its ports, and moves its `decided`
+// the event engine): queues it through its ports, and moves its `decided`
 // count, a register the Triangle Selectors read.
 #pragma once
 

@@ -1,7 +1,7 @@
 // Ray Data Fetcher in the netlist. What it issues to the Ray-Triangle
 // Intersector in a cycle is combinational: a triangle popped in a cycle
 // issues in that cycle (docs/MODEL.md §3), so `issue` is the Fetcher's next
-// step (RayDataFetcher::tick, shared with the other engines) computed on a
+// step (RayDataFetcher::tick, shared with the event engine) computed on a
 // copy of its state from the Triangle FIFO's contents at the start of the
 // cycle. At the clock edge the copy becomes its state and the triangles it
 // took are popped through its port.

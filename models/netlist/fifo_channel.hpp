@@ -4,8 +4,8 @@
 // takes effect in the update phase that follows (pops first, then the push),
 // as a register does. "Full" is therefore judged on the occupancy at the
 // start of the cycle (docs/MODEL.md §3). The contents and statistics are the
-// ICC's own Fifo / SphereFifo (models/fifo.hpp), which the cycle and event
-// engines use directly; the channel adds the timing of a clocked netlist.
+// ICC's own Fifo / SphereFifo (models/fifo.hpp), which the event engine
+// uses directly; the channel adds the timing of a clocked netlist.
 #pragma once
 
 #include <systemc>

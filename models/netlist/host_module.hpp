@@ -7,7 +7,7 @@
 // RTI): the pass ends in the first cycle after which both links are done and
 // every ICC has drained (with overlapped passes: the previous pass's work
 // has). The next pass then starts at that same edge, so passes follow each
-// other without a gap, as in the other engines.
+// other without a gap, as in the event engine.
 #pragma once
 
 #include <systemc>

@@ -1,6 +1,6 @@
 // One Intersection Calculation Core in the netlist (paper Figure 7): its
 // blocks, the FIFOs between them as channels and the wires between them as
-// signals, bound here. Its state is the Icc of the other engines: each
+// signals, bound here. Its state is the Icc of the event engine: each
 // module steps that ICC's block, so the statistics are the same objects.
 //
 // Wires inside the ICC (C: combinational, settled within the cycle; R: a

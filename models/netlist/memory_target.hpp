@@ -3,7 +3,7 @@
 // sockets, with b_transport and an annotated delay. The default targets
 // answer with no delay: a record asked for in a cycle is on the link in that
 // cycle, so a link sends one record per cycle, as the paper's Table 1 says
-// and as the other engines count. A target that adds a delay d holds the
+// and as the event engine count. A target that adds a delay d holds the
 // record back ceil(d / clock period) cycles. Any target that serves the same
 // payload can be bound in their place (SimOptions::bind_memory,
 // docs/MODEL.md §2).
@@ -32,7 +32,7 @@ struct TriangleRecord {
 };
 
 // The target of one memory. `Mem` is SphereMemory or TriangleMemory (the
-// records and their read counts, shared with the other engines).
+// records and their read counts, shared with the event engine).
 template <class Mem>
 class MemoryTarget : public sc_core::sc_module {
 public:

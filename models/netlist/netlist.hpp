@@ -4,7 +4,7 @@
 // block is a module with ports and a process of its own; FIFOs are channels;
 // what crosses blocks within a cycle are combinational signals that settle
 // in delta cycles. The blocks step the same block state (Icc, StreamLink,
-// the memories) as the cycle and event engines, so the statistics are
+// the memories) as the event engine, so the statistics are
 // gathered the same way (docs/MODEL.md §2).
 #pragma once
 
@@ -40,7 +40,7 @@ using BindMemory = std::function<std::unique_ptr<sc_core::sc_module>(LinkSocket&
 using BindSphereMemory = BindMemory<SphereMemoryTarget>;
 using BindTriangleMemory = BindMemory<TriangleMemoryTarget>;
 
-// The state the netlist's modules step: the blocks of the other engines.
+// The state the netlist's modules step: the blocks of the event engine.
 struct MachineState {
     std::deque<Icc>& iccs;
     StreamLink& sphere_link;

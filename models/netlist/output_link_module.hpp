@@ -1,6 +1,6 @@
 // Output Link in the netlist: at the end of a pass the Host reads the
 // group's nearest hits from the Min-distance Memory through it (one entry
-// per ray, counted by OutputLink, shared with the other engines).
+// per ray, counted by OutputLink, shared with the event engine).
 #pragma once
 
 #include <systemc>

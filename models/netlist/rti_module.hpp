@@ -2,7 +2,7 @@
 // that entered L cycles ago leave (each tested against the Ray Memory
 // through its port, a hit written to the Min-distance Memory through its
 // port), and the pairs the Ray Data Fetcher issues this cycle enter
-// (RayTriangleIntersector, shared with the other engines).
+// (RayTriangleIntersector, shared with the event engine).
 #pragma once
 
 #include <systemc>

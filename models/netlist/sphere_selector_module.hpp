@@ -3,7 +3,7 @@
 // has no group this pass or its Sphere FIFO is not full at the start of the
 // cycle. At the clock edge it pushes the sphere broadcast, or counts a cycle
 // in which its full FIFO stopped the link (SphereSelector, shared with the
-// other engines).
+// event engine).
 #pragma once
 
 #include <systemc>

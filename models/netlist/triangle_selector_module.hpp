@@ -5,7 +5,7 @@
 // takes the last triangle of the sphere at the head of its First-Triangle-ID
 // FIFO this cycle, so that FIFO and the PlaneID FIFO free an entry). At the
 // clock edge it keeps or discards the triangle broadcast (TriangleSelector,
-// shared with the other engines).
+// shared with the event engine).
 #pragma once
 
 #include <systemc>
@@ -61,7 +61,7 @@ public:
     const Stats& stats() const { return core_.stats(); }
 
 private:
-    // The sphere of the triangle offered (0 when none is, as the other engines take it).
+    // The sphere of the triangle offered (0 when none is, as the event engine take it).
     std::uint32_t sphere() const {
         const LinkRecord& r = record.read();
         return r.present ? r.sphere : 0;

@@ -58,7 +58,7 @@ TEST_P(FunctionalFault, OneWrongRtiAnswerIsCaughtNamedAndExitsOne) {
     EXPECT_EQ(b["total_cycles"], g["total_cycles"]);
 }
 
-INSTANTIATE_TEST_SUITE_P(Engines, FunctionalFault, ::testing::Values("cycle", "event", "netlist"),
+INSTANTIATE_TEST_SUITE_P(Engines, FunctionalFault, ::testing::Values("event", "netlist"),
                          [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
 
 // (sim.fault = wrong_rti without the compute mode: the bad-input table.)
