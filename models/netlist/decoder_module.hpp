@@ -42,9 +42,11 @@ public:
           first_tri("first_tri"),
           hold("hold"),
           decided("decided"),
-          core_(core) {
+          core_(core),
+          planeid_full_(full_event_of<PlaneIdEntry>(planeid)),
+          first_tri_full_(full_event_of<FirstTriEntry>(first_tri)) {
         SC_METHOD(settle);
-        sensitive << psi << planeid_pop << planeid << first_tri << active << pass;
+        sensitive << psi << planeid_pop << planeid_full_ << first_tri_full_ << active << pass;
         dont_initialize();
         SC_METHOD(tick);
         sensitive << clk.pos() << pass;
@@ -82,7 +84,7 @@ private:
         hold.write(active.read() && core_.holds(PsiView{psi.read()}, p, f));
     }
     void tick() {
-        if (pass.event()) {
+        if (pass.event()) {  // a new pass
             decided.write(core_.decided());
             return;
         }
@@ -99,6 +101,8 @@ private:
     }
 
     Decoder& core_;
+    FifoEventFinder<PlaneIdEntry> planeid_full_;
+    FifoEventFinder<FirstTriEntry> first_tri_full_;
 };
 
 }  // namespace raplas::model::netlist

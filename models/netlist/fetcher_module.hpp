@@ -71,28 +71,39 @@ private:
     void plan() {
         next_ = core_;
         Input in{bound(fifo)};
-        Output out{pipes_, rti_ready.read(), {}};
+        Output out{pipes_, rti_ready.read(), RtiIssue()};
         next_.tick(in, out);
         taken_ = in.taken;
         issue.write(out.pairs);
     }
     void tick() {
-        if (pass.event()) {  // (the ICC may have cleared it; plan runs again)
+        if (pass.event()) {  // a new pass (the ICC may have cleared it; plan runs again)
+            asleep_ = false;
             busy.write(holds());
             return;
         }
-        const bool moves = taken_ || !core_.idle() || !next_.idle() || issue.read().n;
+        if (asleep_) {  // woken by a push into its FIFO: it steps at the next edge
+            asleep_ = false;
+            return;
+        }
+        if (!(taken_ || !core_.idle() || !next_.idle() || issue.read().n)) {
+            // Idle with an empty FIFO: its step changes nothing until a triangle arrives.
+            asleep_ = true;
+            next_trigger(fifo->default_event() | pass.value_changed_event());
+            return;
+        }
         core_ = next_;
         if (taken_) fifo->pop(taken_);
         taken_ = 0;
         busy.write(holds());
-        if (moves) replan_.notify(sc_core::SC_ZERO_TIME);  // (else the step changes nothing: it stays)
+        replan_.notify(sc_core::SC_ZERO_TIME);
     }
 
     RayDataFetcher& core_;
     RayDataFetcher next_;  // its state after this cycle
     std::uint32_t pipes_;
     std::uint32_t taken_ = 0;  // triangles the step takes this cycle
+    bool asleep_ = false;
     sc_core::sc_event replan_;
 };
 

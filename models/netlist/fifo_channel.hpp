@@ -28,7 +28,9 @@ const IF& bound(const sc_core::sc_port<IF, N, P>& port) {
     return *port.operator->();
 }
 
-// What every side may look at: the contents at the start of the cycle.
+// What every side may look at: the contents at the start of the cycle, and
+// events for a change of them (default_event), of the entry at the front or
+// whether there is one (front_event), and of the full flag (full_event).
 template <class T>
 struct FifoStatusIf : virtual sc_core::sc_interface {
     virtual bool empty() const = 0;
@@ -36,8 +38,22 @@ struct FifoStatusIf : virtual sc_core::sc_interface {
     virtual std::uint32_t size() const = 0;
     virtual T at(std::uint32_t i) const = 0;  // the entry i places behind the front
     T front() const { return at(0); }
-    virtual const sc_core::sc_event& default_event() const = 0;  // the contents changed
+    virtual const sc_core::sc_event& default_event() const = 0;
+    virtual const sc_core::sc_event& front_event() const = 0;
+    virtual const sc_core::sc_event& full_event() const = 0;
 };
+// Sensitivity to one of those events of the FIFO a port is bound to
+// (`sensitive << finder`; a member of the module, as it must outlive elaboration).
+template <class T>
+using FifoEventFinder = sc_core::sc_event_finder_t<FifoStatusIf<T>>;
+template <class T, class Port>
+FifoEventFinder<T> front_event_of(const Port& port) {
+    return FifoEventFinder<T>(port, &FifoStatusIf<T>::front_event);
+}
+template <class T, class Port>
+FifoEventFinder<T> full_event_of(const Port& port) {
+    return FifoEventFinder<T>(port, &FifoStatusIf<T>::full_event);
+}
 template <class T>
 struct FifoWriteIf : virtual FifoStatusIf<T> {
     virtual void push(const T& v) = 0;                 // at most one per cycle
@@ -82,6 +98,8 @@ public:
     std::uint32_t size() const override { return store_.fifo.size(); }
     T at(std::uint32_t i) const override { return store_.at(i); }
     const sc_core::sc_event& default_event() const override { return changed_; }
+    const sc_core::sc_event& front_event() const override { return front_changed_; }
+    const sc_core::sc_event& full_event() const override { return full_changed_; }
     void push(const T& v) override {
         pushed_ = v;
         has_push_ = true;
@@ -97,6 +115,8 @@ public:
     void refresh() {
         sample();
         changed_.notify(sc_core::SC_ZERO_TIME);
+        front_changed_.notify(sc_core::SC_ZERO_TIME);
+        full_changed_.notify(sc_core::SC_ZERO_TIME);
     }
     // Its occupancy and full flag in the waveform (name.size, name.full).
     void trace(sc_core::sc_trace_file* tf) const override {
@@ -106,10 +126,15 @@ public:
 
 protected:
     void update() override {
+        const bool was_empty = store_.fifo.empty(), was_full = store_.fifo.full();
+        const bool front_moves = pops_ || (was_empty && has_push_);
         for (; pops_; --pops_) store_.fifo.pop();
         if (has_push_) store_.push(pushed_);
         has_push_ = false;
-        refresh();
+        sample();
+        changed_.notify(sc_core::SC_ZERO_TIME);
+        if (front_moves) front_changed_.notify(sc_core::SC_ZERO_TIME);
+        if (full_ != was_full) full_changed_.notify(sc_core::SC_ZERO_TIME);
     }
 
 private:
@@ -124,7 +149,7 @@ private:
     std::uint32_t pops_ = 0;
     std::uint32_t size_ = 0;
     bool full_ = false;
-    sc_core::sc_event changed_;
+    sc_core::sc_event changed_, front_changed_, full_changed_;
 };
 
 template <class T>

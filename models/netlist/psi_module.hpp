@@ -62,7 +62,7 @@ private:
         }
     };
     void tick() {
-        if (pass.event()) {
+        if (pass.event()) {  // a new pass
             drive();
             return;
         }

@@ -46,13 +46,22 @@ public:
 private:
     BufMask holds() const { return BufMask((core_.inflight(0) ? 1 : 0) | (core_.inflight(1) ? 2 : 0)); }
     void tick() {
-        if (pass.event()) {
+        if (pass.event()) {  // a new pass
+            asleep_ = false;
             ready.write(!core_.stuck());
             busy.write(holds());
             return;
         }
+        if (asleep_) {  // woken by pairs issued this cycle: they enter at the next edge
+            asleep_ = false;
+            return;
+        }
         const RtiIssue& in = issue.read();
-        if (core_.empty() && in.n == 0) return;  // (nothing in flight: nothing to step)
+        if (core_.empty() && in.n == 0) {  // nothing in flight: nothing to step until pairs come
+            asleep_ = true;
+            next_trigger(issue.value_changed_event() | pass.value_changed_event());
+            return;
+        }
         core_.retire_with([this](const RtiOp& op, double& t) { return rays->group(op.buf).rti(op.ray, op.tri, t); },
                           [this](const RtiOp& op, double t) { results->update(op.buf, op.ray, t, op.tri); });
         for (std::uint32_t i = 0; i < in.n; ++i) core_.issue(in.ops[i]);
@@ -61,6 +70,7 @@ private:
     }
 
     RayTriangleIntersector& core_;
+    bool asleep_ = false;
 };
 
 }  // namespace raplas::model::netlist

@@ -71,10 +71,13 @@ inline void sc_trace(sc_core::sc_trace_file* tf, const PsiOut& p, const std::str
 struct RtiIssue {
     static constexpr std::uint32_t kMaxPipes = 64;
     std::uint32_t n = 0;
-    RtiOp ops[kMaxPipes];
-    RtiIssue() = default;
-    RtiIssue(const RtiIssue& o) { *this = o; }
-    RtiIssue& operator=(const RtiIssue& o) {  // (only the pairs in use)
+    // (only the first n are in use, and only they are written, copied or compared)
+    union {
+        RtiOp ops[kMaxPipes];
+    };
+    RtiIssue() : n(0) {}
+    RtiIssue(const RtiIssue& o) : n(0) { *this = o; }
+    RtiIssue& operator=(const RtiIssue& o) {
         n = o.n;
         for (std::uint32_t i = 0; i < n; ++i) ops[i] = o.ops[i];
         return *this;

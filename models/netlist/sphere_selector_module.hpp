@@ -38,9 +38,10 @@ public:
           stall("stall"),
           fifo("fifo"),
           ready("ready"),
-          core_(core) {
+          core_(core),
+          fifo_full_(full_event_of<SphereEntry>(fifo)) {
         SC_METHOD(settle);
-        sensitive << fifo << active << pass;
+        sensitive << fifo_full_ << active << pass;
         dont_initialize();
         SC_METHOD(tick);
         sensitive << clk.pos();
@@ -62,6 +63,7 @@ private:
     }
 
     SphereSelector& core_;
+    FifoEventFinder<SphereEntry> fifo_full_;
 };
 
 }  // namespace raplas::model::netlist

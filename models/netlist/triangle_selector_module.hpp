@@ -50,9 +50,11 @@ public:
           fifo("fifo"),
           ready("ready"),
           planeid_pop("planeid_pop"),
-          core_(core) {
+          core_(core),
+          first_tri_front_(front_event_of<FirstTriEntry>(first_tri)),
+          fifo_full_(full_event_of<TriWork>(fifo)) {
         SC_METHOD(settle);
-        sensitive << record << valid << decided << first_tri << fifo << active << pass;
+        sensitive << record << valid << decided << first_tri_front_ << fifo_full_ << active << pass;
         dont_initialize();
         SC_METHOD(tick);
         sensitive << clk.pos();
@@ -87,6 +89,8 @@ private:
     }
 
     TriangleSelector& core_;
+    FifoEventFinder<FirstTriEntry> first_tri_front_;
+    FifoEventFinder<TriWork> fifo_full_;
 };
 
 }  // namespace raplas::model::netlist
