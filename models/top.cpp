@@ -62,7 +62,7 @@ Top::Top(sc_core::sc_module_name n, const SimConfig& cfg, GroupSource& groups, c
     event_mode_ = cfg.mode == SimMode::event && !waveform && !opt_.on_cycle;
     if (!event_mode_ && cfg.estimate != Estimate::fifo_bound) {
         netlist_ = std::make_unique<netlist::Netlist>(
-            cfg, netlist::MachineState{iccs, sphere_link, triangle_link, sphere_memory, triangle_memory},
+            cfg, netlist::MachineState{host, iccs, sphere_link, triangle_link, sphere_memory, triangle_memory},
             f.mode() == FunctionalMode::trace, opt_.bind_sphere_memory, opt_.bind_triangle_memory);
         netlist::HostModule& h = netlist_->host;
         h.check = [this](std::uint64_t cycle) {

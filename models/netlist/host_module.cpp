@@ -2,17 +2,19 @@
 
 namespace raplas::model::netlist {
 
-HostModule::HostModule(sc_core::sc_module_name n, std::size_t iccs)
+HostModule::HostModule(sc_core::sc_module_name n, const Host& plan)
     : sc_core::sc_module(n),
       clk("clk"),
       pass("pass"),
       sphere_done("sphere_done"),
       triangle_done("triangle_done"),
-      fetcher_busy("fetcher_busy", iccs),
-      rti_busy("rti_busy", iccs),
-      triangle_fifo("triangle_fifo", iccs),
-      icc("icc", iccs),
-      control("control") {
+      fetcher_busy("fetcher_busy", plan.params().iccs),
+      rti_busy("rti_busy", plan.params().iccs),
+      triangle_fifo("triangle_fifo", plan.params().iccs),
+      icc("icc", plan.params().iccs),
+      output_link("output_link", plan.params().iccs),
+      control("control"),
+      plan_(plan) {
     control(*this);
     SC_METHOD(watch);
     sensitive << clk.pos();

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "fifo_channel.hpp"
+#include "host.hpp"
 #include "icc_module.hpp"
 #include "signals.hpp"
 
@@ -36,12 +37,16 @@ struct PassControlIf : virtual sc_core::sc_interface {
 
 class HostModule : public sc_core::sc_module, public PassControlIf {
 public:
+    using Params = Host::Params;
+    using Stats = Host::Stats;
+
     sc_core::sc_in<bool> clk;
     sc_core::sc_out<std::uint32_t> pass;
     sc_core::sc_in<bool> sphere_done, triangle_done;
     sc_core::sc_vector<sc_core::sc_in<BufMask>> fetcher_busy, rti_busy;
     sc_core::sc_vector<sc_core::sc_port<FifoStatusIf<TriWork>>> triangle_fifo;
     sc_core::sc_vector<sc_core::sc_port<IccHostIf>> icc;
+    sc_core::sc_vector<sc_core::sc_port<OutputLinkIf>> output_link;  // each ICC's
     sc_core::sc_export<PassControlIf> control;
 
     // Called after every cycle of a pass, with the cycles so far: `each_cycle`
@@ -51,18 +56,22 @@ public:
     std::function<bool(std::uint64_t)> check;
 
     SC_HAS_PROCESS(HostModule);
-    HostModule(sc_core::sc_module_name n, std::size_t iccs);
+    // `plan`: the Host's plan and statistics (Top plans the passes with it).
+    HostModule(sc_core::sc_module_name n, const Host& plan);
+    const Params& params() const { return plan_.params(); }
+    const Stats& stats() const { return plan_.stats(); }
 
     std::uint64_t run_pass(const std::vector<const TraceGroup*>& groups, std::uint8_t buf, bool overlap,
                            bool drain) override;
     const std::vector<Hit>& results(std::size_t k, const TraceGroup& g, std::uint8_t buf) override {
-        return icc[k]->results(g, buf);
+        return output_link[k]->results(g, buf);
     }
 
 private:
     void watch();
     bool drained() const;
 
+    const Host& plan_;
     bool settling_ = false, running_ = false, drain_ = true;
     std::uint8_t prev_ = 0;
     std::uint32_t number_ = 0;

@@ -19,6 +19,7 @@ IccModule::IccModule(sc_core::sc_module_name n, Icc& icc, bool results_from_trac
       rti_busy("rti_busy"),
       triangle_fifo_status("triangle_fifo_status"),
       host("host"),
+      results("results"),
       active("active"),
       buf("buf"),
       psi_out("psi_out"),
@@ -42,6 +43,7 @@ IccModule::IccModule(sc_core::sc_module_name n, Icc& icc, bool results_from_trac
       output_link("output_link", icc.output, results_from_trace),
       icc_(icc) {
     host(*this);
+    results(output_link.host);
     triangle_fifo_status(triangle_fifo);
 
     sphere_selector.clk(clk);

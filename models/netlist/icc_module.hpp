@@ -33,14 +33,13 @@
 
 namespace raplas::model::netlist {
 
-// What the Host asks of an ICC between passes.
+// What the Host asks of an ICC before a pass (its results it reads through
+// the Output Link, OutputLinkIf).
 struct IccHostIf : virtual sc_core::sc_interface {
     // A new pass: group g (or none) in buffer `buf`; with `overlap` the other
     // buffer's work stays in flight. Loads the group into the Plane and Ray
     // Memories and resets the blocks for it (Icc::start_pass).
     virtual void start_pass(const TraceGroup* g, std::uint8_t buf, bool overlap) = 0;
-    // Group g's results, read through the Output Link.
-    virtual const std::vector<Hit>& results(const TraceGroup& g, std::uint8_t buf) = 0;
 };
 
 class IccModule : public sc_core::sc_module, public IccHostIf {
@@ -55,13 +54,11 @@ public:
     sc_core::sc_out<BufMask> fetcher_busy, rti_busy;
     sc_core::sc_export<FifoStatusIf<TriWork>> triangle_fifo_status;
     sc_core::sc_export<IccHostIf> host;
+    sc_core::sc_export<OutputLinkIf> results;  // the Output Link's
 
     IccModule(sc_core::sc_module_name n, Icc& icc, bool results_from_trace);
 
     void start_pass(const TraceGroup* g, std::uint8_t buf, bool overlap) override;
-    const std::vector<Hit>& results(const TraceGroup& g, std::uint8_t buf) override {
-        return output_link.results(g, buf);
-    }
     // Wires inside the ICC.
     sc_core::sc_signal<bool> active;           // R: the ICC has a group this pass (set by the Host)
     sc_core::sc_signal<std::uint8_t> buf;      // R: its buffer

@@ -36,6 +36,9 @@ struct TriangleRecord {
 template <class Mem>
 class MemoryTarget : public sc_core::sc_module {
 public:
+    using Params = typename Mem::Params;
+    using Stats = typename Mem::Stats;
+
     // (optional: a memory model bound in its place need not forward to it)
     tlm_utils::simple_target_socket_optional<MemoryTarget> socket;
 
@@ -44,6 +47,8 @@ public:
         socket.register_b_transport(this, &MemoryTarget::b_transport);
     }
     std::uint32_t record_bytes() const { return record_bytes_; }
+    const Params& params() const { return mem_.params(); }
+    const Stats& stats() const { return mem_.stats(); }
     std::size_t records() const { return mem_.size(); }
 
     void b_transport(tlm::tlm_generic_payload& t, sc_core::sc_time&) {

@@ -63,7 +63,7 @@ Netlist::Netlist(const SimConfig& cfg, const MachineState& state, bool results_f
       triangle_ready("triangle_ready", cfg.iccs),
       fetcher_busy("fetcher_busy", cfg.iccs),
       rti_busy("rti_busy", cfg.iccs),
-      host("host", cfg.iccs),
+      host("host", state.host),
       sphere_memory("sphere_memory", state.sphere_memory, cfg.sphere_record_bytes),
       triangle_memory("triangle_memory", state.triangle_memory, cfg.triangle_record_bytes),
       sphere_link("sphere_stream_link", state.sphere_link, cfg.iccs, state.sphere_memory.size(), 0, period_of(cfg)),
@@ -120,6 +120,7 @@ Netlist::Netlist(const SimConfig& cfg, const MachineState& state, bool results_f
         host.rti_busy[k](rti_busy[k]);
         host.triangle_fifo[k](c.triangle_fifo_status);
         host.icc[k](c.host);
+        host.output_link[k](c.results);
     }
 }
 

@@ -42,6 +42,7 @@ using BindTriangleMemory = BindMemory<TriangleMemoryTarget>;
 
 // The state the netlist's modules step: the blocks of the event engine.
 struct MachineState {
+    const Host& host;
     std::deque<Icc>& iccs;
     StreamLink& sphere_link;
     StreamLink& triangle_link;
