@@ -187,6 +187,7 @@ int cmd_simulate(const SimulateArgs& a) {
             trace = read_trace(a.trace);
         }
         model::check_trace_reading(trace, cfg, a.trace);
+        if (!a.vcd.empty()) check_waveform(a.vcd, cfg, trace);
         scene_name = trace.scene_name;
         if (cfg.functional == model::FunctionalMode::compute && !(trace.format == cfg.format))
             throw InputError(a.trace + ": trace was made in " + trace.format.name() + " but numerics.format is " +
@@ -222,6 +223,7 @@ int cmd_simulate(const SimulateArgs& a) {
         fo.cull = !so.no_cull;
         fo.record = true;
         fo.pairless = cfg.icc.decoder.select == model::TriangleSelect::any;
+        if (!a.vcd.empty()) check_waveform_up_front(a.vcd, cfg, scene);
         check_model_up_front(cfg, scene);
         if (streamed) {
             open_stream();
