@@ -65,6 +65,12 @@ Top::Top(sc_core::sc_module_name n, const SimConfig& cfg, GroupSource& groups, c
             cfg, netlist::MachineState{host, iccs, sphere_link, triangle_link, sphere_memory, triangle_memory},
             f.mode() == FunctionalMode::trace, opt_.bind_sphere_memory, opt_.bind_triangle_memory);
         netlist::HostModule& h = netlist_->host;
+        auto stop = [this](const std::string& why) {  // (a memory model's error response)
+            if (error_.empty()) error_ = why;
+            netlist_->host.stop();
+        };
+        netlist_->sphere_link.on_error = stop;
+        netlist_->triangle_link.on_error = stop;
         h.check = [this](std::uint64_t cycle) {
             if (++since_sync_ < cfg_.sync_cycles) return true;
             since_sync_ = 0;

@@ -66,6 +66,12 @@ public:
     const std::vector<Hit>& results(std::size_t k, const TraceGroup& g, std::uint8_t buf) override {
         return output_link[k]->results(g, buf);
     }
+    // Ends the pass that runs now (the machine cannot go on: an error).
+    void stop() {
+        if (!running_) return;
+        running_ = false;
+        ended_.notify();
+    }
 
 private:
     void watch();

@@ -13,7 +13,7 @@
 #include <tlm>
 #include <tlm_utils/simple_initiator_socket.h>
 
-#include <stdexcept>
+#include <functional>
 #include <string>
 
 #include "memory_target.hpp"
@@ -43,6 +43,12 @@ public:
     sc_core::sc_out<bool> more;                      // records left after this cycle's
     sc_core::sc_out<bool> done;                      // every record of the pass sent (registered)
     tlm_utils::simple_initiator_socket<StreamLinkModule> memory;
+
+    // Called when its memory answers a read with an error response (the
+    // message names the link, the record and the response); the link then
+    // offers no record. (Not thrown: nothing is thrown across sc_start,
+    // docs/FUZZING.md.) Unset: an SC_REPORT_ERROR.
+    std::function<void(const std::string&)> on_error;
 
     SC_HAS_PROCESS(StreamLinkModule);
     // `core`: the link's position and statistics; `records` per pass;
@@ -120,16 +126,21 @@ private:
         t.set_response_status(tlm::TLM_INCOMPLETE_RESPONSE);
         sc_core::sc_time delay = sc_core::SC_ZERO_TIME;
         memory->b_transport(t, delay);
-        if (t.is_response_error())
-            throw std::runtime_error(std::string(name()) + ": reading record " + std::to_string(i) + ": " +
-                                     t.get_response_string());
+        if (t.is_response_error()) {
+            failed_ = true;
+            const std::string why =
+                std::string(name()) + ": reading record " + std::to_string(i) + ": " + t.get_response_string();
+            if (on_error) on_error(why);
+            else SC_REPORT_ERROR(name(), why.c_str());
+            return;
+        }
         const std::uint64_t d = std::uint64_t(delay.value());
         ready_at_ = cycle_ + (d + period_ps_ - 1) / period_ps_;
         current_ = link_record(buffer_, std::uint32_t(i));
     }
     void drive() {
         LinkRecord r = current_;
-        r.present = core_.has_record() && cycle_ >= lag_ && cycle_ >= ready_at_;
+        r.present = !failed_ && core_.has_record() && cycle_ >= lag_ && cycle_ >= ready_at_;
         if (!core_.has_record()) r.index = std::uint32_t(core_.position());
         record.write(r);
         done.write(!core_.has_record());
@@ -138,6 +149,7 @@ private:
     StreamLink& core_;
     std::uint64_t records_, lag_, period_ps_;
     std::uint64_t cycle_ = 0, ready_at_ = 0;  // cycles of this pass; the cycle the record is on the link
+    bool failed_ = false;                     // its memory refused a read
     Record buffer_{};                         // the record register
     LinkRecord current_;
 };
