@@ -39,7 +39,7 @@ struct SimConfig {
     FunctionalMode functional = FunctionalMode::compute;
     bool cull = true;  // compute mode: skip spheres a group provably misses (core/cull.hpp)
     SimMode mode = SimMode::event;
-    std::uint64_t sync_cycles = 4096;      // cycles simulated between kernel time updates
+    std::uint64_t sync_cycles = 4096;      // cycles between watchdog checks (event mode: and kernel time updates)
     std::uint64_t watchdog_cycles = 1000000;
     // sample_passes: simulate every primary pass and a stratified sample of
     // the shadow passes, extrapolate the shadow passes' cycles (passes are

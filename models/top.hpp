@@ -1,6 +1,8 @@
-// The top module: Host, Sphere/Triangle Memory, the two Stream Links and K
-// ICCs, wired and clocked by one SystemC thread (blocks are C++ state
-// machines stepped each cycle; SystemC time advances every sync_cycles).
+// The top module (`raplas`): the machine's blocks (Host, Sphere/Triangle
+// Memory, the two Stream Links, K ICCs: C++ state machines) and one SystemC
+// thread that runs the Host's passes, each stepped by the event engine
+// (event_engine.cpp; SystemC time advances every sim.sync_cycles) or by the
+// netlist of modules built on those blocks (models/netlist/, one clock).
 #pragma once
 
 #include <atomic>
@@ -95,7 +97,8 @@ struct SimOptions {
     std::uint32_t shard = 0, shards = 1;
     // Called after every pass: (passes done, passes total, cycles so far).
     std::function<void(std::size_t, std::size_t, std::uint64_t)> progress;
-    // Called after every cycle with the records broadcast in it (-1: none);
+    // Called after every cycle with the records broadcast in it (-1: none;
+    // runs the netlist);
     // for tests and debugging (slows the simulation down).
     std::function<void(const class Top&, std::uint64_t cycle, std::int64_t sphere, std::int64_t tri)> on_cycle;
     // sim.mode = netlist: binds the Sphere (Triangle) Stream Link's TLM-2.0
