@@ -4,7 +4,7 @@
 #   1. the paper's full sweep (bunny, sportscar, conference x ICCs 1/4/16/32/48
 #      x FIFO 10/100/1000, 64x64, 16x16 shadow groups), front end included,
 #      event mode with the trace functional mode (cycle counts identical to
-#      the cycle-by-cycle mode), --jobs = cores;
+#      the netlist's, which steps every block every cycle), --jobs = cores;
 #   2. ICC-cycles per second of the timing model, conference and bunny at 48
 #      ICCs, FIFO 1000, event mode, both functional modes;
 #   3. (--big) conference at 256 ICCs and 512x512 pixels: wall time and peak

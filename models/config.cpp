@@ -107,9 +107,12 @@ ParamSet machine_params() {
                "plane-hit masks (bit-identical masks; false tests every sphere, as the hardware does, and also "
                "finds the pair-less spheres a trace in the model's format carries)");
     p.add_string("sim.mode", std::string("event"),
-                 "cycle = step every block every clock cycle; event = exact event-driven stepping that skips "
-                 "what cannot change (same cycle counts and statistics; --vcd forces cycle)",
-                 {"cycle", "event"});
+                 "netlist = the machine as SystemC modules with ports, channels and one clock, every block stepped "
+                 "every cycle, memories behind TLM-2.0 (the reference); event = exact event-driven stepping that "
+                 "skips what cannot change (the same cycle counts and statistics, much faster; --vcd runs the netlist)",
+                 {"event", "netlist"});
+    p.retire_choice("sim.mode", "cycle",
+                    "is retired: sim.mode = netlist steps every block in every cycle (the reference, docs/MODEL.md §2)");
     p.add_string("sim.estimate", std::string("exact"),
                  "exact = simulate every pass; sample_passes = simulate every primary pass and a stratified "
                  "sample of the shadow passes and extrapolate total cycles, with a 95 % confidence half-width "
@@ -120,7 +123,7 @@ ParamSet machine_params() {
                  {"exact", "sample_passes", "fifo_bound"});
     p.add_real("sim.sample_fraction", 0.1, 1e-6, 1.0, "sample_passes: fraction of the shadow passes simulated (at least 2)");
     p.add_int("sim.sample_seed", 1, 0, 1000000000, "sample_passes: seeds the pass drawn in each stratum");
-    p.add_int("sim.sync_cycles", 4096, 1, 1000000000, "cycles simulated between SystemC time updates (1 with --vcd)");
+    p.add_int("sim.sync_cycles", 4096, 1, 1000000000, "cycles between watchdog checks, and (event mode) between SystemC time updates");
     p.add_int("sim.watchdog_cycles", 1000000, 1, 1000000000000,
               "stop with an error when nothing moves for this many cycles");
     add_memory_system_params(p);
@@ -200,7 +203,8 @@ SimConfig config_from_params(const ParamSet& p) {
     c.format = numerics_from_params(p);
     c.functional = p.get_string("sim.functional") == "trace" ? FunctionalMode::trace : FunctionalMode::compute;
     c.cull = p.get_bool("sim.cull");
-    c.mode = p.get_string("sim.mode") == "event" ? SimMode::event : SimMode::cycle;
+    const std::string mode = p.get_string("sim.mode");
+    c.mode = mode == "netlist" ? SimMode::netlist : SimMode::event;
     c.sync_cycles = std::uint64_t(p.get_int("sim.sync_cycles"));
     const std::string estimate = p.get_string("sim.estimate");
     c.estimate = estimate == "sample_passes" ? Estimate::sample_passes

@@ -12,8 +12,8 @@
 
 namespace raplas::model {
 
-enum class SimMode { cycle, event };
-inline const char* sim_mode_name(SimMode m) { return m == SimMode::event ? "event" : "cycle"; }
+enum class SimMode { event, netlist };
+inline const char* sim_mode_name(SimMode m) { return m == SimMode::netlist ? "netlist" : "event"; }
 enum class Estimate { exact, sample_passes, fifo_bound };
 
 // The memory system (paper Figure 5, §5.2; docs/MODEL.md §6): the streaming
@@ -44,7 +44,7 @@ struct SimConfig {
     FunctionalMode functional = FunctionalMode::compute;
     bool cull = true;  // compute mode: skip spheres a group provably misses (core/cull.hpp)
     SimMode mode = SimMode::event;
-    std::uint64_t sync_cycles = 4096;      // cycles simulated between kernel time updates
+    std::uint64_t sync_cycles = 4096;      // cycles between watchdog checks (event mode: and kernel time updates)
     std::uint64_t watchdog_cycles = 1000000;
     // sample_passes: simulate every primary pass and a stratified sample of
     // the shadow passes, extrapolate the shadow passes' cycles (passes are

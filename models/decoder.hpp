@@ -84,7 +84,7 @@ private:
     std::uint32_t in_run_ = 0;  // next sphere of run ri_, when past its first
 };
 
-class Decoder : public sc_core::sc_module {
+class Decoder {
 public:
     struct Params {
         // (the machine configs' default is `any`, docs/MODEL.md §3; a config
@@ -97,7 +97,7 @@ public:
         std::uint64_t pairless = 0;     // ... of which cut by row planes only or column planes only (any)
         std::uint64_t full_cycles = 0;  // a hit could not be queued (FIFOs full)
     };
-    Decoder(sc_core::sc_module_name n, const Params& p) : sc_core::sc_module(n), params_(p) {}
+    explicit Decoder(const Params& p) : params_(p) {}
 
     void start_group() { decided_ = 0; }
     void end_group() { stats_.decided += decided_; }
@@ -109,16 +109,26 @@ public:
     std::uint32_t decided() const { return decided_; }
     // n cycles of tick() holding (a result to queue, a FIFO full).
     void note_held(std::uint64_t n) { stats_.full_cycles += n; }
-    void note_held(std::uint64_t n, Fifo<PlaneIdEntry>& plane_ids, Fifo<FirstTriEntry>& first_ids) {
+    template <class PlaneIds, class FirstIds>
+    void note_held(std::uint64_t n, PlaneIds& plane_ids, FirstIds& first_ids) {
         note_held(n);
         if (plane_ids.full()) plane_ids.note_full(n);
         if (first_ids.full()) first_ids.note_full(n);
     }
 
-    // Returns true when the PSI must hold this cycle.
-    template <class SphereInfo>
-    bool tick(PlaneSphereIntersector& psi, Fifo<PlaneIdEntry>& plane_ids, Fifo<FirstTriEntry>& first_ids,
-              const SphereInfo& info) {
+    // Does the PSI hold this cycle? Its result is to be queued and the
+    // PlaneID or First-Triangle-ID FIFO is full (after the Triangle
+    // Selector's pop of this cycle): what tick() returns, without its effects.
+    template <class Psi, class PlaneIds, class FirstIds>
+    bool holds(const Psi& psi, const PlaneIds& plane_ids, const FirstIds& first_ids) const {
+        return psi.has_output() && queued(psi.output(), params_.select) && (plane_ids.full() || first_ids.full());
+    }
+    // One clock cycle: takes the PSI's result, if any, and queues it when it
+    // is kept. Returns true when the PSI must hold this cycle. The
+    // neighbours are the blocks themselves (event engine) or the netlist's
+    // views of its ports (models/netlist/decoder_module.hpp).
+    template <class Psi, class PlaneIds, class FirstIds, class SphereInfo>
+    bool tick(Psi& psi, PlaneIds& plane_ids, FirstIds& first_ids, const SphereInfo& info) {
         if (!psi.has_output()) return false;
         const PsiResult& r = psi.output();
         if (queued(r, params_.select)) {

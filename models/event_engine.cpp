@@ -1,5 +1,5 @@
 // Event-driven pass of the timing model (sim.mode = "event"): the same
-// machine, the same cycle-by-cycle semantics as Top::run_pass, computed with
+// machine, the same cycle-by-cycle semantics as the netlist (models/netlist/), computed with
 // less work. Exactness rests on three facts:
 //  1. Every ICC sees the same sphere stream, so the sphere side (Sphere FIFO,
 //     PSI timing, Decoder's `decided` count) of every ICC whose PSI has never
@@ -59,7 +59,7 @@
 //     steps, and is brought up to date in one step then.
 //     The skips of 3. run past dozers and cruisers, stopping short of a
 //     dozer's Sphere FIFO filling, a cruise's end or its FIFO running dry.
-// The equivalence with the cycle-by-cycle mode is checked in CI on a grid of
+// The equivalence with the netlist (every block stepped every cycle) is checked in CI on a grid of
 // scenes, ICC counts, FIFO depths and policies (tests/equivalence_modes.py).
 #include <algorithm>
 #include <limits>
@@ -701,7 +701,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 std::uint64_t popped = ~std::uint64_t(0);
                 for (const auto& f : full_until) popped = std::min(popped, f.second);
                 // (a FIFO never popped, under fault injection, is left to the
-                // cycle-by-cycle path and its watchdog)
+                // cycle-by-cycle steps and their watchdog)
                 if (t_held && popped > cycle && popped != kNever) d = popped - cycle;
             }
             if (s_steady) {

@@ -3,11 +3,10 @@
 // (no same-cycle pass-through of a pop), the conservative reading of §3.1.
 #pragma once
 
-#include <systemc>
-
 #include <algorithm>
 #include <cstdint>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace raplas::model {
@@ -23,13 +22,14 @@ struct FifoStats {
 };
 
 template <class T>
-class Fifo : public sc_core::sc_module {
+class Fifo {
 public:
     using Params = FifoParams;
     using Stats = FifoStats;
+    using value_type = T;
 
-    Fifo(sc_core::sc_module_name name, const Params& p) : sc_core::sc_module(name), params_(p), buf_(p.depth) {
-        if (p.depth == 0) throw std::invalid_argument(std::string(this->name()) + ": depth must be >= 1");
+    Fifo(const std::string& name, const Params& p) : params_(p), buf_(p.depth) {
+        if (p.depth == 0) throw std::invalid_argument(name + ": depth must be >= 1");
     }
 
     bool empty() const { return count_ == 0; }
@@ -93,18 +93,21 @@ private:
 
 // The Sphere FIFO: every sphere of the stream enters it in order, so it
 // always holds a run of consecutive sphere ids; it is kept as (first, count).
-class SphereFifo : public sc_core::sc_module {
+class SphereFifo {
 public:
     using Params = FifoParams;
     using Stats = FifoStats;
-    SphereFifo(sc_core::sc_module_name name, const Params& p) : sc_core::sc_module(name), params_(p) {
-        if (p.depth == 0) throw std::invalid_argument(std::string(this->name()) + ": depth must be >= 1");
+    using value_type = std::uint32_t;
+    SphereFifo(const std::string& name, const Params& p) : params_(p) {
+        if (p.depth == 0) throw std::invalid_argument(name + ": depth must be >= 1");
     }
     bool empty() const { return count_ == 0; }
     bool full() const { return count_ == params_.depth; }
     std::uint32_t size() const { return count_; }
     std::uint32_t depth() const { return params_.depth; }
     std::uint32_t front() const { return first_; }
+    // The sphere `i` places behind the front (i < size()).
+    std::uint32_t at(std::uint32_t i) const { return first_ + i; }
     void push(std::uint32_t sphere) {
         if (count_ == 0) first_ = sphere;
         ++count_;

@@ -6,14 +6,13 @@
 // Ray Data Fetchers and RTIs drain; the last pass of each phase drains.
 #pragma once
 
-#include <systemc>
-
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
 namespace raplas::model {
 
-class Host : public sc_core::sc_module {
+class Host {
 public:
     struct Params {
         std::uint32_t iccs = 1;
@@ -25,7 +24,7 @@ public:
         std::uint64_t primary_passes = 0;
         std::uint64_t groups = 0;
     };
-    Host(sc_core::sc_module_name n, const Params& p) : sc_core::sc_module(n), params_(p) {}
+    explicit Host(const Params& p) : params_(p) {}
 
     // Pass p holds group indices [begin, end) of the issue order. `drain`:
     // the pass ends only when every ICC has finished all its work (always

@@ -1,10 +1,12 @@
 // Intersection Calculation Core (paper Figure 7): Selector + Sphere FIFO,
 // Plane-Sphere Intersectors, Decoder, PlaneID FIFO, First-Triangle-ID FIFO,
 // Triangle Selector + Triangle FIFO, Ray Data Fetcher, Ray-Triangle
-// Intersector, Min-distance Memory, Output Link. Each block is its own
-// module; the ICC wires them and steps them once per clock cycle, from the
-// back of the pipeline to the front, so that a value written in cycle c is
-// seen by the next block in cycle c+1.
+// Intersector, Min-distance Memory, Output Link. Each block is a C++ state
+// machine of its own; the ICC holds them, with its group state. The netlist
+// (models/netlist/) wraps each block in a SystemC module with ports that
+// steps it once per clock cycle; the event engine (event_engine.cpp) steps
+// them only when something can change, an ICC's front end (tick_front) in
+// the order of the netlist's cycle: Decoder, PSI, Sphere Selector.
 #pragma once
 
 #include <memory>
@@ -35,7 +37,7 @@ struct SphereInfo {
     }
 };
 
-class Icc : public sc_core::sc_module {
+class Icc {
 public:
     struct Params {
         FifoParams sphere_fifo{1000};
@@ -55,21 +57,19 @@ public:
         std::uint64_t groups = 0;
     };
 
-    Icc(sc_core::sc_module_name n, const Params& p, const Functional& f)
-        : sc_core::sc_module(n),
-          sphere_selector("sphere_selector"),
-          sphere_fifo("sphere_fifo", p.sphere_fifo),
-          psi("psi", p.psi),
-          decoder("decoder", p.decoder),
+    Icc(const Params& p, const Functional& f)
+        : sphere_fifo("sphere_fifo", p.sphere_fifo),
+          psi(p.psi),
+          decoder(p.decoder),
           planeid_fifo("planeid_fifo", p.planeid_fifo),
           first_tri_fifo("first_tri_fifo", p.planeid_fifo),
-          triangle_selector("triangle_selector", p.selector),
+          triangle_selector(p.selector),
           triangle_fifo("triangle_fifo", p.triangle_fifo),
-          ray_data_fetcher("ray_data_fetcher", p.fetcher),
-          rti("rti", p.rti),
-          min_distance_0("min_distance_memory_0", p.min_distance),
-          min_distance_1("min_distance_memory_1", p.min_distance),
-          output("output_link", p.output),
+          ray_data_fetcher(p.fetcher),
+          rti(p.rti),
+          min_distance_0(p.min_distance),
+          min_distance_1(p.min_distance),
+          output(p.output),
           params_(p),
           units_{f.make_unit(), f.make_unit()},
           functional_(f) {}
@@ -150,25 +150,6 @@ public:
         triangle_selector.note_blocked(sphere, decoder.decided(), triangle_fifo);
     }
 
-    // One clock cycle. `sphere` / `tri` are the records broadcast this cycle (-1: none).
-    void tick(std::int64_t sphere, std::int64_t tri, std::uint32_t tri_sphere, const SphereInfo& info,
-              bool spheres_pending) {
-        tick_back(tri, tri_sphere);
-        tick_front(sphere, info, spheres_pending);
-    }
-    // The blocks behind the Decoder: RTI, Ray Data Fetcher, Triangle Selector.
-    void tick_back(std::int64_t tri, std::uint32_t tri_sphere) {
-        if (!back_idle()) {  // else nothing behind the Selector
-            GroupUnit* const units[2] = {units_[0].get(), units_[1].get()};
-            MinDistanceMemory* const mems[2] = {&min_distance_0, &min_distance_1};
-            rti.retire(units, mems);
-            ray_data_fetcher.tick(triangle_fifo, rti);
-            rti.advance();
-        }
-        if (tri >= 0)
-            triangle_selector.receive(active(), std::uint32_t(tri), tri_sphere, planeid_fifo, first_tri_fifo, triangle_fifo,
-                                      buf_);
-    }
     // Decoder, PSI and Sphere Selector.
     void tick_front(std::int64_t sphere, const SphereInfo& info, bool spheres_pending) {
         const bool hold = decoder.tick(psi, planeid_fifo, first_tri_fifo, info);
@@ -177,10 +158,7 @@ public:
     }
     // The Decoder holds this cycle: its PSI's result is to be queued and the
     // PlaneID or First-Triangle-ID FIFO is full.
-    bool decoder_holds() const {
-        return psi.has_output() && queued(psi.output(), params_.decoder.select) &&
-               (planeid_fifo.full() || first_tri_fifo.full());
-    }
+    bool decoder_holds() const { return decoder.holds(psi, planeid_fifo, first_tri_fifo); }
     // n cycles of tick_front with no sphere and the Decoder holding
     // (decoder_holds() stays true): its counters, and those of a full Sphere
     // FIFO stopping the sphere stream (event-driven simulation).
@@ -193,6 +171,9 @@ public:
     // The unit of this pass's group (and of buffer `buf`).
     const GroupUnit& unit() const { return *units_[buf_]; }
     GroupUnit& unit() { return *units_[buf_]; }
+    GroupUnit& unit(std::uint8_t buf) { return *units_[buf]; }
+    // This pass's Ray Memory / Min-distance Memory buffer.
+    std::uint8_t buffer() const { return buf_; }
     MinDistanceMemory& min_distance(std::uint8_t buf) { return buf ? min_distance_1 : min_distance_0; }
     const MinDistanceMemory& min_distance(std::uint8_t buf) const { return buf ? min_distance_1 : min_distance_0; }
     // Nothing left in flight behind the Triangle Selector.

@@ -2,8 +2,6 @@
 // stream order by the two Stream Links (one record per cycle).
 #pragma once
 
-#include <systemc>
-
 #include <cstdint>
 #include <vector>
 
@@ -17,7 +15,7 @@ struct SphereRecord {
     std::uint32_t tri_count = 0;
 };
 
-class SphereMemory : public sc_core::sc_module {
+class SphereMemory {
 public:
     struct Params {
         std::uint32_t record_bytes = 16;  // centre and radius, 4 x 32 bit (paper: 6.4 GB/s at 400 MHz)
@@ -25,7 +23,7 @@ public:
     struct Stats {
         std::uint64_t reads = 0;
     };
-    SphereMemory(sc_core::sc_module_name n, const Params& p) : sc_core::sc_module(n), params_(p) {}
+    explicit SphereMemory(const Params& p) : params_(p) {}
     void load(std::vector<SphereRecord> records) { records_ = std::move(records); }
     std::size_t size() const { return records_.size(); }
     const SphereRecord& read(std::size_t i) {
@@ -43,7 +41,7 @@ private:
     Stats stats_;
 };
 
-class TriangleMemory : public sc_core::sc_module {
+class TriangleMemory {
 public:
     struct Params {
         std::uint32_t record_bytes = 39;  // 13 values x 24 bit (paper: 15.6 GB/s at 400 MHz)
@@ -51,7 +49,7 @@ public:
     struct Stats {
         std::uint64_t reads = 0;
     };
-    TriangleMemory(sc_core::sc_module_name n, const Params& p) : sc_core::sc_module(n), params_(p) {}
+    explicit TriangleMemory(const Params& p) : params_(p) {}
     void load(std::vector<TriangleRec> tris, std::vector<std::uint32_t> sphere_of) {
         tris_ = std::move(tris);
         sphere_of_ = std::move(sphere_of);

@@ -8,9 +8,15 @@
 namespace raplas::model {
 
 namespace {
-// SystemC bookkeeping of an ICC's 13 modules (names, hierarchy, process
-// tables), measured: docs/MEMORY.md.
+// Bookkeeping of an ICC beyond its blocks' sizes, measured when its 13
+// blocks were SystemC modules (names, hierarchy, process tables): a margin
+// now that they are plain classes (docs/MEMORY.md).
 constexpr double kSystemCPerIcc = 8 * 1024;
+// The netlist (sim.mode = netlist) of an ICC: its 9 modules, 4 FIFO channels,
+// some 60 ports, 8 signals and 10 processes with their SystemC bookkeeping.
+// Measured: peak RSS of a netlist run over an event run, per ICC, 63 KB
+// (512 ICCs against 64, docs/MEMORY.md).
+constexpr double kNetlistPerIcc = 64 * 1024;
 }  // namespace
 
 std::vector<MemoryItem> model_memory(const SimConfig& c, const TraceShape& t) {
@@ -42,6 +48,9 @@ std::vector<MemoryItem> model_memory(const SimConfig& c, const TraceShape& t) {
                          std::to_string(c.icc.planeid_fifo.depth) + " (Triangle/PlaneID)",
                      double(c.iccs) * fifo});
     items.push_back({std::to_string(c.iccs) + " ICCs' pipelines and group state", double(c.iccs) * per_icc + active * per_active});
+    if (c.mode == SimMode::netlist)
+        items.push_back({std::to_string(c.iccs) + " ICCs' modules, ports and signals (sim.mode = netlist)",
+                         double(c.iccs) * kNetlistPerIcc});
     // Sphere and Triangle Memory; the functional model's geometry in the
     // format; event mode: every ICC's sphere hits of a pass in one list.
     double shared = double(t.spheres) * (sizeof(SphereRecord)) + double(t.triangles) * (sizeof(TriangleRec) + 4);

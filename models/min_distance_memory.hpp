@@ -3,15 +3,13 @@
 // triangle id, so the result does not depend on the order of arrival.
 #pragma once
 
-#include <systemc>
-
 #include <vector>
 
 #include "raplas/core/intersect.hpp"
 
 namespace raplas::model {
 
-class MinDistanceMemory : public sc_core::sc_module {
+class MinDistanceMemory {
 public:
     struct Params {
         std::uint32_t entry_bytes = 6;  // 24-bit triangle id + 24-bit distance
@@ -19,7 +17,7 @@ public:
     struct Stats {
         std::uint64_t updates = 0;
     };
-    MinDistanceMemory(sc_core::sc_module_name n, const Params& p) : sc_core::sc_module(n), params_(p) {}
+    explicit MinDistanceMemory(const Params& p) : params_(p) {}
 
     void reset(std::size_t rays) { hits_.assign(rays, Hit{}); }
     void update(std::uint32_t ray, double t, std::uint32_t tri) {

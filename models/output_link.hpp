@@ -2,13 +2,11 @@
 // Memory (one entry per ray) back to the host.
 #pragma once
 
-#include <systemc>
-
 #include <cstdint>
 
 namespace raplas::model {
 
-class OutputLink : public sc_core::sc_module {
+class OutputLink {
 public:
     struct Params {
         std::uint32_t entry_bytes = 6;
@@ -18,7 +16,7 @@ public:
         std::uint64_t records = 0;
         std::uint64_t bytes = 0;
     };
-    OutputLink(sc_core::sc_module_name n, const Params& p) : sc_core::sc_module(n), params_(p) {}
+    explicit OutputLink(const Params& p) : params_(p) {}
     void send(std::uint64_t rays) {
         ++stats_.groups;
         stats_.records += rays;

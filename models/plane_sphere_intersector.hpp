@@ -20,7 +20,7 @@ struct PsiResult {
     std::uint64_t ready = 0;  // pipe-local time at which it leaves the last stage
 };
 
-class PlaneSphereIntersector : public sc_core::sc_module {
+class PlaneSphereIntersector {
 public:
     struct Params {
         std::uint32_t pipes = 32;
@@ -34,7 +34,7 @@ public:
         std::uint64_t starved_cycles = 0; // input slot free but the Sphere FIFO empty
     };
 
-    PlaneSphereIntersector(sc_core::sc_module_name n, const Params& p) : sc_core::sc_module(n), params_(p) {}
+    explicit PlaneSphereIntersector(const Params& p) : params_(p) {}
 
     // `hits`: the group's spheres cut by a row and a column plane, ascending
     // (the functional result of the pipes, see GroupUnit::sphere_hits);
@@ -115,8 +115,10 @@ public:
     void set_stuck(bool s) { stuck_ = s; }
     bool stuck() const { return stuck_; }
 
-    // One clock cycle, after the Decoder has looked at the output.
-    void tick(SphereFifo& in, bool stalled, bool spheres_pending) {
+    // One clock cycle, after the Decoder has looked at the output. `in` is
+    // the Sphere FIFO (a SphereFifo, or the netlist's port on its channel).
+    template <class In>
+    void tick(In& in, bool stalled, bool spheres_pending) {
         if (stuck_) return;
         if (stalled) {
             ++stats_.stall_cycles;

@@ -67,7 +67,7 @@ struct FetcherQueue {
     }
 };
 
-class RayDataFetcher : public sc_core::sc_module {
+class RayDataFetcher {
 public:
     struct Params {
         std::uint32_t empty_cycles = 1;
@@ -77,7 +77,7 @@ public:
         std::uint64_t empty_triangles = 0;  // ... of which with no (ray, triangle) pair
         std::uint64_t starved_cycles = 0;   // pass cycles in which no pair was issued
     };
-    RayDataFetcher(sc_core::sc_module_name n, const Params& p) : sc_core::sc_module(n), params_(p) {}
+    explicit RayDataFetcher(const Params& p) : params_(p) {}
 
     // A new group of N x N rays in buffer `buf`; `keep` (overlapped passes)
     // leaves the previous group's work in progress.
@@ -101,7 +101,11 @@ public:
         stats_.empty_triangles += empty;
     }
 
-    void tick(Fifo<TriWork>& in, RayTriangleIntersector& rti) {
+    // One clock cycle: pops triangles from `in` (the Triangle FIFO) and
+    // issues pairs to `rti` (can_issue(), issue()): the blocks themselves, or
+    // the netlist's views (models/netlist/ray_data_fetcher.hpp).
+    template <class In, class Rti>
+    void tick(In& in, Rti& rti) {
         if (empty_left_) {  // still on a triangle with no pair
             --empty_left_;
             return;

@@ -19,7 +19,7 @@ struct RtiOp {
     std::uint8_t buf = 0;
 };
 
-class RayTriangleIntersector : public sc_core::sc_module {
+class RayTriangleIntersector {
 public:
     struct Params {
         std::uint32_t pipes = 1;
@@ -30,8 +30,8 @@ public:
         std::uint64_t hits = 0;
         std::uint64_t busy_cycles = 0;  // cycles with at least one pair entering
     };
-    RayTriangleIntersector(sc_core::sc_module_name n, const Params& p)
-        : sc_core::sc_module(n), params_(p), ops_(std::size_t(p.stages) * p.pipes), count_(p.stages, 0) {}
+    explicit RayTriangleIntersector(const Params& p)
+        : params_(p), ops_(std::size_t(p.stages) * p.pipes), count_(p.stages, 0) {}
 
     void start_group() {
         std::fill(count_.begin(), count_.end(), 0u);
@@ -45,13 +45,21 @@ public:
     // Start of a cycle: the pairs that entered `stages` cycles ago leave, each
     // to its buffer's group unit and Min-distance Memory.
     void retire(GroupUnit* const units[2], MinDistanceMemory* const mems[2]) {
+        retire_with([&](const RtiOp& op, double& t) { return units[op.buf]->rti(op.ray, op.tri, t); },
+                    [&](const RtiOp& op, double t) { mems[op.buf]->update(op.ray, t, op.tri); });
+    }
+    // The same with the test made by test(op, t) (true: a hit at t) and a
+    // hit recorded by record(op, t) (the netlist's ports on the Ray Memory
+    // and the Min-distance Memory).
+    template <class Test, class Record>
+    void retire_with(Test&& test, Record&& record) {
         const std::uint32_t n = count_[idx_];
         const RtiOp* slot = &ops_[std::size_t(idx_) * params_.pipes];
         for (std::uint32_t i = 0; i < n; ++i) {
             double t;
-            if (units[slot[i].buf]->rti(slot[i].ray, slot[i].tri, t)) {
+            if (test(slot[i], t)) {
                 ++stats_.hits;
-                mems[slot[i].buf]->update(slot[i].ray, t, slot[i].tri);
+                record(slot[i], t);
             }
             --inflight_buf_[slot[i].buf];
         }

@@ -7,18 +7,21 @@
 
 namespace raplas::model {
 
-class SphereSelector : public sc_core::sc_module {
+class SphereSelector {
 public:
     struct Params {};
     struct Stats {
         std::uint64_t received = 0;
         std::uint64_t blocked_link_cycles = 0;  // cycles this ICC's full Sphere FIFO stopped the broadcast
     };
-    SphereSelector(sc_core::sc_module_name n, const Params& p = {}) : sc_core::sc_module(n), params_(p) {}
+    explicit SphereSelector(const Params& p = {}) : params_(p) {}
 
-    bool ready(bool active, const SphereFifo& fifo) const { return !active || !fifo.full(); }
+    // (`fifo`: the Sphere FIFO, or the netlist's port on its channel)
+    template <class SFifo>
+    bool ready(bool active, const SFifo& fifo) const { return !active || !fifo.full(); }
     // `cycles` cycles in which this ICC's full Sphere FIFO stopped the broadcast.
-    void note_blocked(SphereFifo& fifo, std::uint64_t cycles = 1) {
+    template <class SFifo>
+    void note_blocked(SFifo& fifo, std::uint64_t cycles = 1) {
         stats_.blocked_link_cycles += cycles;
         fifo.note_full(cycles);
     }

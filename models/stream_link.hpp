@@ -5,14 +5,12 @@
 // broadcasting operation must be ceased").
 #pragma once
 
-#include <systemc>
-
 #include <cstdint>
 #include <vector>
 
 namespace raplas::model {
 
-class StreamLink : public sc_core::sc_module {
+class StreamLink {
 public:
     struct Params {
         std::uint32_t record_bytes = 16;
@@ -24,7 +22,7 @@ public:
         std::uint64_t bytes = 0;
     };
 
-    StreamLink(sc_core::sc_module_name n, const Params& p) : sc_core::sc_module(n), params_(p) {}
+    explicit StreamLink(const Params& p) : params_(p) {}
 
     void start_pass(std::uint64_t records) {
         pos_ = 0;

@@ -1,5 +1,7 @@
 #include "top.hpp"
 
+#include "netlist/netlist.hpp"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -19,28 +21,23 @@ namespace raplas::model {
 struct Top::Vcd {
     sc_core::sc_trace_file* file = nullptr;
     std::string tmp_base, final_path;
-    std::uint32_t pass = 0;
-    bool s_valid = false, s_stall = false, t_valid = false, t_stall = false;
-    std::uint32_t s_index = 0, t_index = 0;
-    std::vector<std::uint32_t> sphere_fifo, planeid_fifo, triangle_fifo, rti_inflight, decided;
 };
 
 Top::Top(sc_core::sc_module_name n, const SimConfig& cfg, GroupSource& groups, const Functional& f,
          const SimOptions& opt)
     : sc_core::sc_module(n),
-      host("host", Host::Params{cfg.iccs, cfg.pass_overhead_cycles, cfg.overlap_passes}),
-      sphere_memory("sphere_memory", SphereMemory::Params{cfg.sphere_record_bytes}),
-      triangle_memory("triangle_memory", TriangleMemory::Params{cfg.triangle_record_bytes}),
-      sphere_link("sphere_stream_link", StreamLink::Params{cfg.sphere_record_bytes}),
-      triangle_link("triangle_stream_link", StreamLink::Params{cfg.triangle_record_bytes}),
-      iccs("icc"),
+      host(Host::Params{cfg.iccs, cfg.pass_overhead_cycles, cfg.overlap_passes}),
+      sphere_memory(SphereMemory::Params{cfg.sphere_record_bytes}),
+      triangle_memory(TriangleMemory::Params{cfg.triangle_record_bytes}),
+      sphere_link(StreamLink::Params{cfg.sphere_record_bytes}),
+      triangle_link(StreamLink::Params{cfg.triangle_record_bytes}),
       cfg_(cfg),
       groups_(groups),
       trace_(groups.header()),
       functional_(f),
       opt_(opt),
       period_(1.0e6 / cfg.clock_mhz, sc_core::SC_PS) {
-    iccs.init(cfg.iccs, [&](const char* name, std::size_t) { return new Icc(name, cfg.icc, f); });
+    for (std::uint32_t k = 0; k < cfg.iccs; ++k) iccs.emplace_back(cfg.icc, f);
     if (cfg.fault == Fault::stuck_rti) iccs[cfg.fault_icc].rti.set_stuck(true);
     if (cfg.fault == Fault::stuck_psi) iccs[cfg.fault_icc].psi.set_stuck(true);
     if (cfg.fault == Fault::wrong_rti) iccs[cfg.fault_icc].inject_wrong_rti();
@@ -59,9 +56,39 @@ Top::Top(sc_core::sc_module_name n, const SimConfig& cfg, GroupSource& groups, c
     if (cfg.estimate == Estimate::fifo_bound && (!opt_.vcd_path.empty() || opt_.on_cycle))
         throw InputError("sim.estimate = fifo_bound computes the cycles in closed form: no waveform (--vcd) or "
                          "per-cycle hook; use sim.estimate = exact");
-    if (!opt_.vcd_path.empty()) setup_vcd();
-    // The event-driven mode is exact; waveforms and per-cycle hooks need every cycle.
-    event_mode_ = cfg.mode == SimMode::event && !vcd_ && !opt_.on_cycle;
+    // The event-driven mode is exact; per-cycle hooks need every cycle, and a
+    // waveform the netlist's signals: they run the netlist.
+    const bool waveform = !opt_.vcd_path.empty();
+    event_mode_ = cfg.mode == SimMode::event && !waveform && !opt_.on_cycle;
+    if (!event_mode_ && cfg.estimate != Estimate::fifo_bound) {
+        netlist_ = std::make_unique<netlist::Netlist>(
+            cfg, netlist::MachineState{host, iccs, sphere_link, triangle_link, sphere_memory, triangle_memory},
+            f.mode() == FunctionalMode::trace, opt_.bind_sphere_memory, opt_.bind_triangle_memory);
+        netlist::HostModule& h = netlist_->host;
+        auto stop = [this](const std::string& why) {  // (a memory model's error response)
+            if (error_.empty()) error_ = why;
+            netlist_->host.stop();
+        };
+        netlist_->sphere_link.on_error = stop;
+        netlist_->triangle_link.on_error = stop;
+        h.check = [this](std::uint64_t cycle) {
+            if (++since_sync_ < cfg_.sync_cycles) return true;
+            since_sync_ = 0;
+            return watchdog_ok(cycle, netlist_watch_, 0, [&] { return active_views(); });
+        };
+        if (opt_.on_cycle)
+            h.each_cycle = [this](std::uint64_t cycle) {
+                std::int64_t sent[2] = {-1, -1};
+                const StreamLink* links[2] = {&sphere_link, &triangle_link};
+                for (int i = 0; i < 2; ++i)
+                    if (links[i]->stats().records_sent != netlist_sent_[i]) {
+                        netlist_sent_[i] = links[i]->stats().records_sent;
+                        sent[i] = std::int64_t(links[i]->position()) - 1;
+                    }
+                opt_.on_cycle(*this, cycle - 1, sent[0], sent[1]);
+            };
+    }
+    if (waveform) setup_vcd();
     // In the event-driven mode a group's ray-triangle answers are found when
     // it is loaded, on the loading threads (Icc::answer_at_load). Not for an
     // ICC with an injected wrong answer: whether it fires in a pass depends on
@@ -72,8 +99,8 @@ Top::Top(sc_core::sc_module_name n, const SimConfig& cfg, GroupSource& groups, c
     const bool bound = cfg.estimate == Estimate::fifo_bound;
     if (event_mode_ || bound) {
         ref_fifo_ = std::make_unique<SphereFifo>("shared_sphere_fifo", cfg.icc.sphere_fifo);
-        ref_psi_ = std::make_unique<PlaneSphereIntersector>("shared_psi", cfg.icc.psi);
-        ref_decoder_ = std::make_unique<Decoder>("shared_decoder", cfg.icc.decoder);
+        ref_psi_ = std::make_unique<PlaneSphereIntersector>(cfg.icc.psi);
+        ref_decoder_ = std::make_unique<Decoder>(cfg.icc.decoder);
         ref_planeid_ = std::make_unique<Fifo<PlaneIdEntry>>("shared_planeid_fifo", FifoParams{1});
         ref_first_tri_ = std::make_unique<Fifo<FirstTriEntry>>("shared_first_tri_fifo", FifoParams{1});
     }
@@ -96,49 +123,15 @@ void Top::setup_vcd() {
     vcd_->file = sc_core::sc_create_vcd_trace_file(vcd_->tmp_base.c_str());
     if (!vcd_->file) throw InputError(opt_.vcd_path + ": cannot create VCD file");
     vcd_->file->set_time_unit(1, sc_core::SC_PS);
-    auto* f = vcd_->file;
-    sc_core::sc_trace(f, vcd_->pass, "host.pass");
-    sc_core::sc_trace(f, vcd_->s_valid, "sphere_stream_link.valid");
-    sc_core::sc_trace(f, vcd_->s_stall, "sphere_stream_link.stall");
-    sc_core::sc_trace(f, vcd_->s_index, "sphere_stream_link.index");
-    sc_core::sc_trace(f, vcd_->t_valid, "triangle_stream_link.valid");
-    sc_core::sc_trace(f, vcd_->t_stall, "triangle_stream_link.stall");
-    sc_core::sc_trace(f, vcd_->t_index, "triangle_stream_link.index");
-    const std::size_t shown = std::min<std::size_t>(iccs.size(), 16);
-    vcd_->sphere_fifo.assign(shown, 0);
-    vcd_->planeid_fifo.assign(shown, 0);
-    vcd_->triangle_fifo.assign(shown, 0);
-    vcd_->rti_inflight.assign(shown, 0);
-    vcd_->decided.assign(shown, 0);
-    for (std::size_t k = 0; k < shown; ++k) {
-        std::string p = "icc_" + std::to_string(k) + ".";
-        sc_core::sc_trace(f, vcd_->sphere_fifo[k], p + "sphere_fifo.occupancy");
-        sc_core::sc_trace(f, vcd_->planeid_fifo[k], p + "planeid_fifo.occupancy");
-        sc_core::sc_trace(f, vcd_->triangle_fifo[k], p + "triangle_fifo.occupancy");
-        sc_core::sc_trace(f, vcd_->rti_inflight[k], p + "rti.inflight");
-        sc_core::sc_trace(f, vcd_->decided[k], p + "decoder.decided");
-    }
-    cfg_.sync_cycles = 1;
-}
-
-void Top::sample_vcd(bool s_valid, bool s_stall, bool t_valid, bool t_stall) {
-    vcd_->s_valid = s_valid;
-    vcd_->s_stall = s_stall;
-    vcd_->t_valid = t_valid;
-    vcd_->t_stall = t_stall;
-    vcd_->s_index = std::uint32_t(sphere_link.position());
-    vcd_->t_index = std::uint32_t(triangle_link.position());
-    for (std::size_t k = 0; k < vcd_->sphere_fifo.size(); ++k) {
-        vcd_->sphere_fifo[k] = iccs[k].sphere_fifo.size();
-        vcd_->planeid_fifo[k] = iccs[k].planeid_fifo.size();
-        vcd_->triangle_fifo[k] = iccs[k].triangle_fifo.size();
-        vcd_->rti_inflight[k] = iccs[k].rti.inflight();
-        vcd_->decided[k] = iccs[k].decoder.decided();
-    }
+    netlist_->trace(vcd_->file);  // every signal, port and FIFO, by hierarchical name
 }
 
 std::uint64_t Top::progress_signature() const {
-    std::uint64_t sig = sphere_link.position() * 3 + triangle_link.position() * 7;
+    return sphere_link.position() * 3 + triangle_link.position() * 7 + block_progress();
+}
+
+std::uint64_t Top::block_progress() const {
+    std::uint64_t sig = 0;
     for (const auto& icc : iccs) sig += icc.rti.stats().tests + icc.psi.stats().spheres + icc.decoder.stats().decided;
     return sig;
 }
@@ -198,6 +191,18 @@ bool Top::sync_time(std::uint64_t cycle, Watch& w, std::uint64_t extra_progress,
                     const std::function<std::vector<IccView>()>& views) {
     wait(period_ * double(since_sync_));
     since_sync_ = 0;
+    return watchdog_ok(cycle, w, extra_progress, views);
+}
+
+std::vector<IccView> Top::active_views() const {
+    std::vector<IccView> v;
+    for (std::size_t k = 0; k < iccs.size(); ++k)
+        if (iccs[k].active()) v.push_back(view_of(iccs[k], k));
+    return v;
+}
+
+bool Top::watchdog_ok(std::uint64_t cycle, Watch& w, std::uint64_t extra_progress,
+                      const std::function<std::vector<IccView>()>& views) {
     const std::uint64_t sig = progress_signature() + extra_progress;
     if (sig != w.signature || cycle <= cfg_.triangle_lag_cycles) {  // the initial lag is no stall
         w.signature = sig;
@@ -209,64 +214,15 @@ bool Top::sync_time(std::uint64_t cycle, Watch& w, std::uint64_t extra_progress,
     return true;
 }
 
-std::uint64_t Top::run_pass(const Host::Pass& p, std::uint8_t buf) {
-    std::vector<Icc*> active, draining;
-    for (std::size_t k = 0; k < iccs.size(); ++k) {
-        const std::uint32_t gi = p.begin + std::uint32_t(k);
-        const TraceGroup* g = gi < p.end ? &groups_.group(gi) : nullptr;
-        iccs[k].start_pass(g, buf, cfg_.overlap_passes);
-        if (g) active.push_back(&iccs[k]);
-        else if (!iccs[k].drained()) draining.push_back(&iccs[k]);  // the previous pass's work (overlap)
-    }
-    const std::uint8_t prev = buf ^ 1;
-    sphere_link.start_pass(sphere_memory.size());
-    triangle_link.start_pass(triangle_memory.size());
-    const SphereInfo info{&sphere_memory};
-    std::uint64_t cycle = 0;
-    Watch watch{progress_signature(), 0};
-    for (;;) {
-        std::int64_t s = -1, t = -1;
-        const bool s_has = sphere_link.has_record();
-        const bool t_has = triangle_link.has_record() && cycle >= cfg_.triangle_lag_cycles;
-        const std::uint32_t ti = std::uint32_t(triangle_link.position());
-        const std::uint32_t ts = t_has ? triangle_memory.sphere_of(ti) : 0;
-        // Every ICC must be able to take a record for it to be broadcast
-        // (judged on the state at the start of the cycle).
-        bool s_ok = s_has, t_ok = t_has;
-        for (Icc* c : active) {
-            s_ok = s_ok && c->sphere_ready();
-            t_ok = t_ok && c->triangle_ready(ts);
-        }
-        if (s_has && !s_ok)
-            for (Icc* c : active)
-                if (!c->sphere_ready()) c->note_sphere_blocked();
-        if (t_has && !t_ok)
-            for (Icc* c : active)
-                if (!c->triangle_ready(ts)) c->note_triangle_blocked(ts);
-        broadcast(s_has, s_ok, t_has, t_ok, s, t);
-        const bool s_stall = s_has && !s_ok, t_stall = t_has && !t_ok;
-        const bool spheres_pending = sphere_link.has_record();
-        for (Icc* c : active) c->tick(s, t, ts, info, spheres_pending);
-        for (Icc* c : draining) c->tick_back(-1, 0);
-        ++cycle;
-        if (vcd_) sample_vcd(s >= 0, s_stall, t >= 0, t_stall);
-        if (opt_.on_cycle) opt_.on_cycle(*this, cycle - 1, s, t);
-        if (!sphere_link.has_record() && !triangle_link.has_record()) {
-            // The pass ends when its streams are done and every ICC has
-            // drained: all of its work, or (overlapped passes) the previous
-            // pass's, whose buffer the next pass needs.
-            bool drained = true;
-            for (const auto& c : iccs) drained = drained && (p.drain ? c.drained() : c.drained(prev));
-            if (drained) break;
-        }
-        if (++since_sync_ >= cfg_.sync_cycles && !sync_time(cycle, watch, 0, [&] {
-                std::vector<IccView> v;
-                for (std::size_t k = 0; k < iccs.size(); ++k)
-                    if (iccs[k].active()) v.push_back(view_of(iccs[k], k));
-                return v;
-            }))
-            return cycle;
-    }
+std::uint64_t Top::run_pass_netlist(const Host::Pass& p, std::uint8_t buf) {
+    std::vector<const TraceGroup*> g(iccs.size(), nullptr);
+    for (std::size_t k = 0; k < iccs.size(); ++k)
+        if (p.begin + k < p.end) g[k] = &groups_.group(p.begin + std::uint32_t(k));
+    netlist_watch_ = Watch{block_progress(), 0};  // (both links start at record 0)
+    netlist_sent_[0] = sphere_link.stats().records_sent;
+    netlist_sent_[1] = triangle_link.stats().records_sent;
+    const std::uint64_t cycle = netlist_->host.control->run_pass(g, buf, cfg_.overlap_passes, p.drain);
+    if (!error_.empty()) return cycle;  // the watchdog fired
     for (auto& icc : iccs)
         if (!icc.active()) icc.add_idle(cycle);
     return cycle;
@@ -279,7 +235,8 @@ void Top::end_pass(const Host::Pass& p) {
 void Top::check_pass(const Host::Pass& p, std::uint8_t buf) {
     for (std::size_t k = 0; k < p.end - p.begin; ++k) {
         const TraceGroup& g = groups_.group(p.begin + k);
-        const std::vector<Hit>& hits = iccs[k].results(g, buf);
+        const std::vector<Hit>& hits =
+            netlist_ ? netlist_->host.control->results(k, g, buf) : iccs[k].results(g, buf);
         if (functional_.mode() != FunctionalMode::compute) continue;
         for (std::uint32_t v = 0; v < g.n; ++v)
             for (std::uint32_t h = 0; h < g.n; ++h) {
@@ -412,6 +369,7 @@ void Top::run() {
         error_ = e.what();
     }
     // (every load has ended: the next pass's is waited for before run_passes returns)
+    if (netlist_) sc_core::sc_stop();  // (its clock would run on)
     result_.loads_cpu_s = 1e-9 * double(loads_cpu_ns_.load());
     result_.model_cpu_s = std::max(0.0, thread_cpu_s() - cpu0 - 1e-9 * double(loads_cpu_model_ns_.load()));
     // sc_start() returns when no event is left. The thread parks here for good
@@ -487,7 +445,6 @@ void Top::run_passes() {
             c = run_pass_bound(pass);
             since_sync_ += c;
         } else {
-            if (vcd_) vcd_->pass = std::uint32_t(i);
             {  // (the wait for this pass's groups to be loaded, timed)
                 const ScopeWall timed(result_.load_waits_s);
                 if (ahead.valid()) ahead.get();
@@ -507,7 +464,7 @@ void Top::run_passes() {
                     preload(next, nb);
                 });
             }
-            c = event_mode_ ? run_pass_event(pass, buf) : run_pass(pass, buf);
+            c = event_mode_ ? run_pass_event(pass, buf) : run_pass_netlist(pass, buf);
             if (!error_.empty()) break;  // the watchdog fired
             pass_len_ = c;
             end_pass(pass);
@@ -526,8 +483,10 @@ void Top::run_passes() {
     if (!error_.empty()) return;
     groups_.release(groups_.total_groups());
     for (auto& icc : iccs) icc.finish_run();
-    if (since_sync_) wait(period_ * double(since_sync_));
-    if (cfg_.pass_overhead_cycles) wait(period_ * double(cfg_.pass_overhead_cycles * chosen.size()));
+    if (!netlist_) {  // (the netlist's clock has advanced time cycle by cycle)
+        if (since_sync_) wait(period_ * double(since_sync_));
+        if (cfg_.pass_overhead_cycles) wait(period_ * double(cfg_.pass_overhead_cycles * chosen.size()));
+    }
     result_.total_cycles = total;
     if (bound) result_.estimated = result_.lower_bound = true;
     if (cfg_.estimate == Estimate::sample_passes && chosen.size() < passes.size()) extrapolate(passes);

@@ -1,15 +1,21 @@
-// The top module: Host, Sphere/Triangle Memory, the two Stream Links and K
-// ICCs, wired and clocked by one SystemC thread (blocks are C++ state
-// machines stepped each cycle; SystemC time advances every sync_cycles).
+// The top module (`raplas`): the machine's blocks (Host, Sphere/Triangle
+// Memory, the two Stream Links, K ICCs: C++ state machines) and one SystemC
+// thread that runs the Host's passes, each stepped by the event engine
+// (event_engine.cpp; SystemC time advances every sim.sync_cycles) or by the
+// netlist of modules built on those blocks (models/netlist/, one clock).
 #pragma once
 
 #include <atomic>
+#include <deque>
 #include <functional>
 #include <memory>
 #include <thread>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include <systemc>
+#include <tlm>
 
 #include "bucket_queue.hpp"
 #include "config.hpp"
@@ -22,6 +28,12 @@
 #include "watchdog.hpp"
 
 namespace raplas::model {
+
+namespace netlist {
+class Netlist;
+template <class Mem>
+class MemoryTarget;
+}  // namespace netlist
 
 struct IccSnapshot {
     Icc::Stats icc;
@@ -85,9 +97,20 @@ struct SimOptions {
     std::uint32_t shard = 0, shards = 1;
     // Called after every pass: (passes done, passes total, cycles so far).
     std::function<void(std::size_t, std::size_t, std::uint64_t)> progress;
-    // Called after every cycle with the records broadcast in it (-1: none);
+    // Called after every cycle with the records broadcast in it (-1: none;
+    // runs the netlist);
     // for tests and debugging (slows the simulation down).
     std::function<void(const class Top&, std::uint64_t cycle, std::int64_t sphere, std::int64_t tri)> on_cycle;
+    // sim.mode = netlist: binds the Sphere (Triangle) Stream Link's TLM-2.0
+    // initiator socket to a memory model of the caller's instead of the
+    // default target; called during elaboration with the socket and the
+    // default target, which holds the records (a model may forward its reads
+    // to it); returns the module it made, which the netlist owns.
+    // Empty: the default target (docs/MODEL.md §2, "Binding a memory model").
+    template <class Target>
+    using BindMemory = std::function<std::unique_ptr<sc_core::sc_module>(tlm::tlm_initiator_socket<>& link, Target& memory)>;
+    BindMemory<netlist::MemoryTarget<SphereMemory>> bind_sphere_memory;
+    BindMemory<netlist::MemoryTarget<TriangleMemory>> bind_triangle_memory;
 };
 
 // The passes a run simulates (indices into `passes`, ascending): every one;
@@ -113,7 +136,7 @@ public:
     TriangleMemory triangle_memory;
     StreamLink sphere_link;
     StreamLink triangle_link;
-    sc_core::sc_vector<Icc> iccs;
+    std::deque<Icc> iccs;
 
     const SimResult& result() const { return result_; }
     const std::string& error() const { return error_; }
@@ -123,9 +146,10 @@ private:
     // Every pass (or a sample under sim.estimate = sample_passes, or a
     // shard's), simulated, each pass's groups released once checked.
     void run_passes();
-    // Pass p with its groups in Ray / Min-distance Memory buffer `buf`.
-    std::uint64_t run_pass(const Host::Pass& p, std::uint8_t buf);
+    // Pass p with its groups in Ray / Min-distance Memory buffer `buf`:
+    // stepped by the event engine (event_engine.cpp), or run by the netlist's Host.
     std::uint64_t run_pass_event(const Host::Pass& p, std::uint8_t buf);
+    std::uint64_t run_pass_netlist(const Host::Pass& p, std::uint8_t buf);
     // sim.estimate = fifo_bound: the pass's cycles with unbounded Triangle,
     // PlaneID and First-Triangle-ID FIFOs, in closed form (bound_engine.cpp).
     std::uint64_t run_pass_bound(const Host::Pass& p);
@@ -147,6 +171,7 @@ private:
     std::string stuck_report(std::uint64_t cycle, const std::vector<IccView>& views) const;
     IccView view_of(const Icc& c, std::size_t k) const;
     std::uint64_t progress_signature() const;
+    std::uint64_t block_progress() const;  // its part from the ICCs' blocks
     // One cycle of both Stream Links: send, stall or idle; s/t get the records sent.
     void broadcast(bool s_has, bool s_ok, bool t_has, bool t_ok, std::int64_t& s, std::int64_t& t);
     // Advances SystemC time by the cycles since the last sync and runs the watchdog.
@@ -159,8 +184,11 @@ private:
     // stack AddressSanitizer does not follow through an unwind).
     [[nodiscard]] bool sync_time(std::uint64_t cycle, Watch& w, std::uint64_t extra_progress,
                    const std::function<std::vector<IccView>()>& views);
-    void setup_vcd();
-    void sample_vcd(bool s_valid, bool s_stall, bool t_valid, bool t_stall);
+    // The watchdog alone (no time advanced): false when it fired.
+    [[nodiscard]] bool watchdog_ok(std::uint64_t cycle, Watch& w, std::uint64_t extra_progress,
+                                   const std::function<std::vector<IccView>()>& views);
+    std::vector<IccView> active_views() const;
+    void setup_vcd();  // --vcd: the netlist's signals
 
     SimConfig cfg_;
     GroupSource& groups_;
@@ -179,6 +207,11 @@ private:
 
     struct Vcd;
     std::unique_ptr<Vcd> vcd_;
+    // sim.mode = netlist: the machine as modules with ports (models/netlist/),
+    // and the watchdog's record of the pass it runs.
+    std::unique_ptr<netlist::Netlist> netlist_;
+    Watch netlist_watch_;
+    std::uint64_t netlist_sent_[2] = {0, 0};  // records sent by the links (on_cycle)
     // Event mode: the sphere side shared by every ICC that was never held.
     bool event_mode_ = false;
     std::unique_ptr<SphereFifo> ref_fifo_;

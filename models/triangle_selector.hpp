@@ -20,7 +20,7 @@ static_assert(sizeof(TriWork) == 24);
 
 enum class StallPolicy { any_full, needed_full };
 
-class TriangleSelector : public sc_core::sc_module {
+class TriangleSelector {
 public:
     struct Params {
         StallPolicy policy = StallPolicy::any_full;
@@ -31,28 +31,33 @@ public:
         std::uint64_t blocked_fifo_full = 0;  // cycles this ICC stopped the broadcast: Triangle FIFO full
         std::uint64_t blocked_undecided = 0;  // ... its sphere not decided yet
     };
-    TriangleSelector(sc_core::sc_module_name n, const Params& p) : sc_core::sc_module(n), params_(p) {}
+    explicit TriangleSelector(const Params& p) : params_(p) {}
 
-    static bool wants(std::uint32_t sphere, const Fifo<FirstTriEntry>& first_ids) {
+    // (The FIFOs are the blocks themselves, or the netlist's ports on their channels.)
+    template <class FirstIds>
+    static bool wants(std::uint32_t sphere, const FirstIds& first_ids) {
         return !first_ids.empty() && first_ids.front().sphere == sphere;
     }
     // Can this ICC take triangle `tri` of sphere `sphere` this cycle?
-    bool ready(bool active, std::uint32_t sphere, std::uint32_t decided, const Fifo<FirstTriEntry>& first_ids,
-               const Fifo<TriWork>& tri_fifo) const {
+    template <class FirstIds, class TriFifo>
+    bool ready(bool active, std::uint32_t sphere, std::uint32_t decided, const FirstIds& first_ids,
+               const TriFifo& tri_fifo) const {
         if (!active) return true;
         if (decided <= sphere) return false;
         if (!tri_fifo.full()) return true;
         return params_.policy == StallPolicy::needed_full && !wants(sphere, first_ids);
     }
-    void note_blocked(std::uint32_t sphere, std::uint32_t decided, Fifo<TriWork>& tri_fifo) {
+    template <class TriFifo>
+    void note_blocked(std::uint32_t sphere, std::uint32_t decided, TriFifo& tri_fifo) {
         if (decided <= sphere) ++stats_.blocked_undecided;
         else {
             ++stats_.blocked_fifo_full;
             tri_fifo.note_full();
         }
     }
-    void receive(bool active, std::uint32_t tri, std::uint32_t sphere, Fifo<PlaneIdEntry>& plane_ids,
-                 Fifo<FirstTriEntry>& first_ids, Fifo<TriWork>& tri_fifo, std::uint8_t buf = 0) {
+    template <class PlaneIds, class FirstIds, class TriFifo>
+    void receive(bool active, std::uint32_t tri, std::uint32_t sphere, PlaneIds& plane_ids, FirstIds& first_ids,
+                 TriFifo& tri_fifo, std::uint8_t buf = 0) {
         if (!active) return;
         if (!wants(sphere, first_ids)) return;  // discarded (counted at the end of the pass)
         const PlaneIdEntry& p = plane_ids.front();

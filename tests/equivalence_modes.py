@@ -1,13 +1,21 @@
 #!/usr/bin/env python3
-"""sim.mode=event must give exactly the results of sim.mode=cycle: every figure
-of `raplas simulate --json` except wall-clock ones (every key present in
-either JSON), over a seeded grid of scenes, ICC counts, Triangle, Sphere and PlaneID
-FIFO depths, per-pass host overheads, SystemC sync intervals, stall policies, PSI pipe counts and stages, RTI pipe counts and
-stages, triangle-stream lags, both Triangle Selector readings, the Ray
-Data Fetcher's cycles on a triangle with no pair, and overlapped passes, and at
-two points of the `paper` machine's own FIFO depths. Each scene's trace carries
-the pair-less spheres (it serves both readings); a trace made for the
-row-and-column reading alone must give the same JSON under that reading."""
+"""sim.mode=event must give exactly the results of the reference,
+sim.mode=netlist (the SystemC netlist): every figure of `raplas simulate --json`
+except wall-clock ones (every key present in either JSON, and the provenance
+but for sim.mode), over a seeded grid of scenes, ICC counts, Triangle, Sphere
+and PlaneID FIFO depths, per-pass host overheads, SystemC sync intervals, stall
+policies, PSI pipe counts and stages, RTI pipe counts and stages,
+triangle-stream lags, both Triangle Selector readings, the Ray Data Fetcher's
+cycles on a triangle with no pair, overlapped passes, both functional modes
+and the group orders, and at two points of the `paper` machine's own FIFO depths. Each
+scene's trace carries the pair-less spheres (it serves both readings); a trace
+made for the row-and-column reading alone must give the same JSON under that
+reading.
+
+Arguments: RAPLAS ROOT [POINTS_PER_SCENE [REFERENCE_MODE [SCENES]]]: the
+reference defaults to netlist; SCENES is a comma-separated list of small-scene
+names, each optionally with its own number of points (builtin:30,sportscar:3;
+default: every small scene, POINTS_PER_SCENE each)."""
 import json
 import os
 import random
@@ -20,12 +28,18 @@ from testlib import PROVENANCE, finish, json_diff, provenance_diff, report, smal
 raplas, root = sys.argv[1], os.path.abspath(sys.argv[2])
 # configurations per scene: 10; the sanitizer build passes fewer (tests/CMakeLists.txt)
 points_per_scene = int(sys.argv[3]) if len(sys.argv) > 3 else 10
+reference = sys.argv[4] if len(sys.argv) > 4 else "netlist"
 SKIP = {"wall"} | PROVENANCE
 scenes = small_scenes(root)
+points = {name: points_per_scene for name, _ in scenes}
+if len(sys.argv) > 5:
+    wanted = dict((w.split(":") + [str(points_per_scene)])[:2] for w in sys.argv[5].split(","))
+    scenes = [s for s in scenes if s[0] in wanted]
+    points = {name: int(n) for name, n in wanted.items()}
 
 
 rng = random.Random(20071007)
-failures = points = 0
+failures = checked = 0
 with tempfile.TemporaryDirectory() as tmp:
     for name, args in scenes:
         trace = os.path.join(tmp, name + ".trace")
@@ -40,15 +54,15 @@ with tempfile.TemporaryDirectory() as tmp:
             return json.load(open(path))
 
         def check(cfg, with_both_trace):
-            global failures, points
-            out = {mode: simulate(trace, mode, cfg) for mode in ("cycle", "event")}
-            d = json_diff(out["cycle"], out["event"], SKIP) + provenance_diff(out["cycle"], out["event"], {"sim.mode"})
+            global failures, checked
+            out = {mode: simulate(trace, mode, cfg) for mode in (reference, "event")}
+            d = json_diff(out[reference], out["event"], SKIP) + provenance_diff(out[reference], out["event"], {"sim.mode"})
             if with_both_trace:  # the row-and-column trace gives the same figures under its reading
                 d += [f"both-trace {x}" for x in json_diff(out["event"], simulate(both_trace, "event", cfg), SKIP)]
-            points += 1
-            failures += report(name, cfg, d, out["cycle"]["total_cycles"])
+            checked += 1
+            failures += report(name, cfg, d, out[reference]["total_cycles"])
 
-        for i in range(points_per_scene):
+        for i in range(points[name]):
             check(["--iccs", str(rng.choice([1, 2, 3, 5, 16])), "--fifo", str(rng.choice([1, 2, 3, 10, 100, 1000])),
                    "--set", f"fifo.planeid_depth={rng.choice([1, 2, 16])}",
                    "--set", f"fifo.sphere_depth={rng.choice([1, 3, 1000])}",
@@ -63,9 +77,11 @@ with tempfile.TemporaryDirectory() as tmp:
                    "--set", f"icc.rdf_empty_cycles={rng.choice([0, 1, 1, 3])}",
                    "--set", f"link.triangle_lag_cycles={rng.choice([0, 0, 7, 40])}",
                    "--set", f"host.overlap_passes={'true' if i % 4 >= 2 else 'false'}",
-                   "--set", f"sim.functional={rng.choice(['compute', 'trace'])}"], i == 0)
+                   "--set", f"sim.functional={rng.choice(['compute', 'trace'])}",
+                   "--set", f"workload.group_order={rng.choice(['pixel', 'pixel', 'random', 'morton', 'strided'])}"],
+                  i == 0)
         # the `paper` machine's own FIFO depths (its 1000-deep PlaneID FIFO too), besides the random grid
         check(["--iccs", "4", "--fifo", "1000", "--set", "sim.functional=trace"], False)
         check(["--iccs", "16", "--fifo", "100", "--set", "sim.functional=compute"], False)
-print(f"{points - failures} passed, {failures} failed")
+print(f"{checked - failures} passed, {failures} failed")
 finish(failures)

@@ -40,7 +40,7 @@ with tempfile.TemporaryDirectory() as tmp:
             for i in range(points_per_trace):
                 cfg = ["--iccs", str(rng.choice([1, 2, 5, 16])), "--fifo", str(rng.choice([1, 3, 10, 100, 1000])),
                        "--set", f"icc.triangle_select={rng.choice(['any', 'both'])}",
-                       "--set", f"sim.mode={rng.choice(['cycle', 'event'])}",
+                       "--set", f"sim.mode={rng.choice(['netlist', 'event'])}",
                        "--set", f"numerics.format={fmt}"]
                 out = {}
                 for mode in ("compute", "trace"):

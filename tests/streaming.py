@@ -26,18 +26,18 @@ points_per_scene = int(sys.argv[3]) if len(sys.argv) > 3 else 6
 # (machine settings, extra options); each point draws one and random ICC
 # counts, FIFO depths, threads and windows.
 VARIANTS = [
-    (["sim.mode=cycle"], []),
+    (["sim.mode=netlist"], []),
     (["sim.mode=event"], []),
     (["sim.mode=event", "icc.triangle_select=any"], []),
-    (["sim.mode=cycle", "icc.triangle_select=any", "sim.functional=trace"], []),
+    (["sim.mode=netlist", "icc.triangle_select=any", "sim.functional=trace"], []),
     (["sim.mode=event", "sim.functional=trace"], []),
     (["sim.estimate=fifo_bound"], []),
     (["sim.estimate=fifo_bound", "icc.triangle_select=any"], []),
     (["sim.estimate=sample_passes", "sim.sample_fraction=0.3"], []),
     (["host.overlap_passes=true", "sim.mode=event"], []),
-    (["host.overlap_passes=true", "sim.mode=cycle", "icc.triangle_select=any"], []),
+    (["host.overlap_passes=true", "sim.mode=netlist", "icc.triangle_select=any"], []),
     (["sim.mode=event"], ["--shard", "1/3"]),
-    (["sim.mode=cycle", "sim.fault=wrong_rti", "sim.fault_icc=1"], ["--shard", "0/2"]),
+    (["sim.mode=netlist", "sim.fault=wrong_rti", "sim.fault_icc=1"], ["--shard", "0/2"]),
     (["sim.mode=event", "sim.fault=stuck_rti"], []),
 ]
 
@@ -88,7 +88,7 @@ with tempfile.TemporaryDirectory() as tmp:
         trace = os.path.join(tmp, f"{name}.trace")
         subprocess.run([raplas, "trace", "-q", "-o", trace] + scene_args, check=True)
         data = open(trace, "rb").read()
-        for sets in (["sim.mode=event"], ["sim.mode=cycle", "sim.functional=trace", "icc.triangle_select=both"],
+        for sets in (["sim.mode=event"], ["sim.mode=netlist", "sim.functional=trace", "icc.triangle_select=both"],
                      ["sim.estimate=fifo_bound"]):
             args = ["--trace", trace, "--config", "paper", *FOLLOW_WORKLOAD, "--iccs", str(rng.choice([1, 3, 16])), "--fifo",
                     str(rng.choice([3, 1000]))]

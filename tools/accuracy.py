@@ -327,7 +327,7 @@ def main():
             md.append(f"| {m['mode']} | {m['wall_s']} | {m['error']} | {m.get('error_metric', '')} | {m.get('notes', '')} |")
     else:
         md.append("*None measured yet: the timing model has one exact mode (`sim.mode = event`, identical cycle "
-                  "counts to `cycle`). Modes that estimate cycles are measured here once they exist.*")
+                  "counts to `netlist`). Modes that estimate cycles are measured here once they exist.*")
     md.append("")
     md.append(END)
     block = "\n".join(md)

@@ -43,7 +43,7 @@ void add_simulate_options(CLI::App* cmd, SimulateArgs& a) {
         ->check(count_check(100000000, false));
     cmd->add_option("--json", a.json, "all statistics as JSON");
     cmd->add_option("--csv", a.csv, "the main figures as one CSV row with a header");
-    cmd->add_option("--vcd", a.vcd, "VCD waveform of the top-level handshakes (GTKWave)");
+    cmd->add_option("--vcd", a.vcd, "VCD waveform of every signal, port and FIFO of the netlist (GTKWave; runs sim.mode = netlist)");
     cmd->add_option("--shard", a.shard,
                     "I/N: simulate only shard I of N, the passes p with p mod N = I, and write its partial result to "
                     "--json for raplas merge (docs/SHARDING.md)");
@@ -164,7 +164,9 @@ int cmd_simulate(const SimulateArgs& a) {
         std::cout << mp.dump();
         return 0;
     }
-    const model::SimConfig cfg = model::config_from_params(mp);
+    model::SimConfig cfg = model::config_from_params(mp);
+    if (!a.vcd.empty() && cfg.estimate != model::Estimate::fifo_bound)
+        cfg.mode = model::SimMode::netlist;  // a waveform is the netlist's (its memory counted so)
     // A key given that cannot change the run is refused (docs/BAD_INPUT.md, "Rules").
     check_keys_apply(mp, config_keys, so.sets, a.trace);
     {  // What the run reads and writes, checked before any work.
@@ -255,6 +257,7 @@ int cmd_simulate(const SimulateArgs& a) {
         }
         model::check_trace_reading(trace, cfg, a.trace);
         check_trace_workload(trace, mp, a.trace);
+        if (!a.vcd.empty()) check_waveform(a.vcd, cfg, trace);
         scene_name = trace.scene_name;
         if (cfg.functional == model::FunctionalMode::compute && !(trace.format == cfg.format))
             throw InputError(a.trace + ": trace was made in " + trace.format.name() + " but numerics.format is " +
@@ -290,6 +293,7 @@ int cmd_simulate(const SimulateArgs& a) {
         fo.cull = !so.no_cull;
         fo.record = true;
         fo.pairless = cfg.icc.decoder.select == model::TriangleSelect::any;
+        if (!a.vcd.empty()) check_waveform_up_front(a.vcd, cfg, scene);
         check_model_up_front(cfg, scene);
         if (streamed) {
             open_stream();

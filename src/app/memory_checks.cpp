@@ -1,11 +1,14 @@
 #include "memory_checks.hpp"
 
 #include <sys/stat.h>
+#include <sys/statvfs.h>
 
 #include <algorithm>
 
 #include "memory_estimate.hpp"
 #include "raplas/frontend/memory_estimate.hpp"
+#include "raplas/util/error.hpp"
+#include "raplas/util/memory_budget.hpp"
 
 namespace raplas {
 
@@ -21,6 +24,25 @@ TraceShape model_shape_up_front(const Scene& s) {
     const int n = s.group_size;
     t.primary_groups = std::uint64_t((s.width + n - 1) / n) * std::uint64_t((s.height + n - 1) / n);
     return t;
+}
+
+// The waveform's least size against the free space of the disk `path` is on.
+void check_waveform_size(const std::string& path, const model::SimConfig& c, std::uint64_t primary_groups,
+                         std::uint64_t spheres, std::uint64_t triangles) {
+    const std::uint64_t passes = (primary_groups + c.iccs - 1) / c.iccs;
+    const double cycles = double(passes) * double(std::max(spheres, triangles));
+    const double least = 14.0 * cycles;
+    const std::size_t slash = path.find_last_of('/');
+    const std::string dir = slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
+    struct statvfs fs{};
+    if (::statvfs(dir.c_str(), &fs) != 0) return;  // (a directory that is not there: the writer says so)
+    const double free = double(fs.f_bavail) * double(fs.f_frsize);
+    if (least <= free) return;
+    char n[32];
+    std::snprintf(n, sizeof n, "%.3g", cycles);
+    throw InputError("--vcd " + path + ": the waveform needs at least " + format_bytes(least) + " (" + n +
+                     " cycles in the primary passes alone, at least 14 bytes each for the clock) but its disk has " +
+                     format_bytes(free) + " free; simulate a smaller image or more ICCs");
 }
 
 const char* command_name(FrontEndUse use) {
@@ -151,5 +173,14 @@ void check_trace_streamed(const model::SimConfig& c, const std::string& path, co
 }
 
 void check_model(const model::SimConfig& c, const Trace& t) { check_memory("simulate", model::model_memory(c, trace_shape(t))); }
+
+void check_waveform_up_front(const std::string& path, const model::SimConfig& c, const Scene& s) {
+    const TraceShape t = model_shape_up_front(s);
+    check_waveform_size(path, c, t.primary_groups, t.spheres, t.triangles);
+}
+
+void check_waveform(const std::string& path, const model::SimConfig& c, const Trace& header) {
+    check_waveform_size(path, c, header.primary_groups, header.spheres.size(), header.triangles.size());
+}
 
 }  // namespace raplas

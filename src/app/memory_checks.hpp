@@ -42,4 +42,13 @@ void check_trace_streamed(const model::SimConfig& c, const std::string& path, co
 // Before the timing model, with the trace in memory.
 void check_model(const model::SimConfig& c, const Trace& t);
 
+// `raplas simulate --vcd PATH`: refuses a waveform that cannot fit on PATH's
+// disk. Every pass broadcasts every sphere and every triangle, one a cycle at
+// most, so the primary passes alone take at least passes x max(spheres,
+// triangles) cycles, and the clock alone writes at least 14 bytes a cycle
+// (two edges, each a time stamp and a value). Before the front end, from the
+// scene's shape; or from a trace's header.
+void check_waveform_up_front(const std::string& path, const model::SimConfig& c, const Scene& s);
+void check_waveform(const std::string& path, const model::SimConfig& c, const Trace& header);
+
 }  // namespace raplas

@@ -231,6 +231,13 @@ ParamSet& ParamSet::unset_means(const std::string& key, std::string word) {
     return *this;
 }
 
+ParamSet& ParamSet::retire_choice(const std::string& key, std::string value, std::string why) {
+    auto it = decls_.find(key);
+    if (it == decls_.end() || it->second.type != Type::String) throw std::logic_error("no string parameter: " + key);
+    it->second.retired[std::move(value)] = std::move(why);
+    return *this;
+}
+
 std::string ParamSet::Source::at(const void* node) const {
     if (!lines) return name;
     return where_of(name, *static_cast<const toml::node*>(node));
@@ -291,6 +298,7 @@ void ParamSet::assign(const std::string& key, const void* node_ptr, const std::s
                     ok = ok || c == *x;
                     list += (list.empty() ? "" : ", ") + c;
                 }
+                if (!ok && d.retired.count(*x)) throw bad("= '" + *x + "' " + d.retired.at(*x));
                 if (!ok) throw bad("= '" + *x + "' is not one of: " + list);
             }
             v.s = *x;

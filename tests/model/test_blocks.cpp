@@ -38,7 +38,7 @@ public:
 }  // namespace
 
 TEST(PlaneSphereIntersector, FirstResultExactlyTenCyclesAfterItsInput) {
-    PlaneSphereIntersector psi("psi_a", {32, 10});
+    PlaneSphereIntersector psi({32, 10});
     SphereFifo in("fifo_a", {8});
     FixedUnit unit;
     psi.start_group(32, &unit.sphere_hits());
@@ -58,7 +58,7 @@ TEST(PlaneSphereIntersector, FirstResultExactlyTenCyclesAfterItsInput) {
 TEST(PlaneSphereIntersector, PlanesBeyondThePipesTakeExtraCycles) {
     // 32 planes on 8 pipes: 4 batches, result 3 + 10 cycles after the first batch;
     // the next sphere enters 4 cycles after the first.
-    PlaneSphereIntersector psi("psi_b", {8, 10});
+    PlaneSphereIntersector psi({8, 10});
     SphereFifo in("fifo_b", {8});
     FixedUnit unit;
     psi.start_group(32, &unit.sphere_hits());
@@ -78,7 +78,7 @@ TEST(PlaneSphereIntersector, PlanesBeyondThePipesTakeExtraCycles) {
 }
 
 TEST(PlaneSphereIntersector, HoldsWholePipeWhileTheDecoderIsFull) {
-    PlaneSphereIntersector psi("psi_c", {32, 10});
+    PlaneSphereIntersector psi({32, 10});
     SphereFifo in("fifo_c", {8});
     FixedUnit unit;
     psi.start_group(32, &unit.sphere_hits());
@@ -105,8 +105,8 @@ TEST(PlaneSphereIntersector, HoldsWholePipeWhileTheDecoderIsFull) {
 }
 
 TEST(RayTriangleIntersector, FirstResultExactlyTwentyFiveCyclesAfterItsInput) {
-    RayTriangleIntersector rti("rti_a", {1, 25});
-    MinDistanceMemory mem("mem_a", {});
+    RayTriangleIntersector rti({1, 25});
+    MinDistanceMemory mem({});
     FixedUnit unit;
     rti.start_group();
     mem.reset(4);
@@ -127,8 +127,8 @@ TEST(RayTriangleIntersector, FirstResultExactlyTwentyFiveCyclesAfterItsInput) {
 }
 
 TEST(RayDataFetcher, IssuesOnePairPerCycleForRowsTimesColumns) {
-    RayDataFetcher rdf("rdf_a", {1});
-    RayTriangleIntersector rti("rti_b", {1, 25});
+    RayDataFetcher rdf({1});
+    RayTriangleIntersector rti({1, 25});
     Fifo<TriWork> in("tri_fifo_a", {4});
     rdf.start_group(4);
     rti.start_group();
@@ -153,8 +153,8 @@ TEST(RayDataFetcher, ATriangleWithNoPairHoldsItForItsEmptyCycles) {
     // in cycle 5. With e = 0 it is dropped in the cycle it is reached (2),
     // and the next triangle issues in that same cycle.
     for (std::uint32_t e : {0u, 1u, 3u}) {
-        RayDataFetcher rdf(("rdf_e" + std::to_string(e)).c_str(), {e});
-        RayTriangleIntersector rti(("rti_e" + std::to_string(e)).c_str(), {1, 25});
+        RayDataFetcher rdf({e});
+        RayTriangleIntersector rti({1, 25});
         Fifo<TriWork> in(("tri_fifo_e" + std::to_string(e)).c_str(), {4});
         rdf.start_group(4);
         rti.start_group();
@@ -182,12 +182,12 @@ TEST(RayDataFetcher, ATriangleWithNoPairHoldsItForItsEmptyCycles) {
 TEST(Decoder, QueuesPairlessSpheresOnlyUnderTheAnyReading) {
     for (TriangleSelect sel : {TriangleSelect::both, TriangleSelect::any}) {
         const std::string tag = sel == TriangleSelect::any ? "any" : "both";
-        PlaneSphereIntersector psi(("psi_" + tag).c_str(), {32, 1});
+        PlaneSphereIntersector psi({32, 1});
         SphereFifo in(("sfifo_" + tag).c_str(), {8});
-        Decoder dec(("dec_" + tag).c_str(), {sel});
+        Decoder dec({sel});
         Fifo<PlaneIdEntry> pid(("pid_" + tag).c_str(), {8});
         Fifo<FirstTriEntry> ftid(("ftid_" + tag).c_str(), {8});
-        SphereMemory mem(("smem_" + tag).c_str(), {});
+        SphereMemory mem({});
         std::vector<SphereRecord> recs(4);
         for (std::uint32_t s = 0; s < 4; ++s) recs[s] = {Sphere{}, s, 1};
         mem.load(recs);
@@ -230,7 +230,7 @@ TEST(Fifo, RefusesWhenFullAndTracksOccupancy) {
 }
 
 TEST(TriangleSelector, WaitsForTheDecisionThenSelectsOrDiscards) {
-    TriangleSelector sel("sel_a", {StallPolicy::any_full});
+    TriangleSelector sel({StallPolicy::any_full});
     Fifo<PlaneIdEntry> pid("pid_a", {4});
     Fifo<FirstTriEntry> ftid("ftid_a", {4});
     Fifo<TriWork> tf("tf_a", {2});
@@ -252,7 +252,7 @@ TEST(TriangleSelector, WaitsForTheDecisionThenSelectsOrDiscards) {
     // full Triangle FIFO: any_full holds the link even for an unwanted triangle,
     // needed_full does not
     EXPECT_FALSE(sel.ready(true, 4, 5, ftid, tf));
-    TriangleSelector lenient("sel_b", {StallPolicy::needed_full});
+    TriangleSelector lenient({StallPolicy::needed_full});
     EXPECT_TRUE(lenient.ready(true, 4, 5, ftid, tf));
 }
 

@@ -1,6 +1,6 @@
 // The watchdog: a machine in which one block stops (fault injection,
 // sim.fault) ends with an error naming the stuck block, the blocks held behind
-// it and the FIFO states, in both timing modes. One simulation per process.
+// it and the FIFO states, in every timing mode. One simulation per process.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -105,7 +105,7 @@ TEST_P(Watchdog, FaultOnAnIccWithoutAGroupChangesNothing) {
     EXPECT_EQ(r.total_cycles, std::uint64_t(kSpheres) * 16 + c.icc.rti.stages + c.icc.psi.stages + 3);
 }
 
-INSTANTIATE_TEST_SUITE_P(Modes, Watchdog, ::testing::Values(SimMode::cycle, SimMode::event),
+INSTANTIATE_TEST_SUITE_P(Modes, Watchdog, ::testing::Values(SimMode::event, SimMode::netlist),
                          [](const ::testing::TestParamInfo<SimMode>& i) {
-                             return std::string(i.param == SimMode::cycle ? "cycle" : "event");
+                             return std::string(i.param == SimMode::event ? "event" : "netlist");
                          });

@@ -1,7 +1,7 @@
 // The functional check can fail. The model's answers come from the same
 // kernels as the front end's, so two things guard them: a fault that makes
 // one answer wrong must turn `functional_match` false, name the ray and exit
-// 1 (both timing engines); and the plane masks the model's Plane-Sphere
+// 1 (every timing engine); and the plane masks the model's Plane-Sphere
 // Intersectors compute (batched, culled kernels) must equal a sphere-by-sphere,
 // plane-by-plane scalar Eq. 1 evaluation in every number format.
 #include <gmock/gmock.h>
@@ -58,7 +58,7 @@ TEST_P(FunctionalFault, OneWrongRtiAnswerIsCaughtNamedAndExitsOne) {
     EXPECT_EQ(b["total_cycles"], g["total_cycles"]);
 }
 
-INSTANTIATE_TEST_SUITE_P(Engines, FunctionalFault, ::testing::Values("cycle", "event"),
+INSTANTIATE_TEST_SUITE_P(Engines, FunctionalFault, ::testing::Values("event", "netlist"),
                          [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
 
 // (sim.fault = wrong_rti without the compute mode: the bad-input table.)

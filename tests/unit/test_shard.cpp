@@ -1,7 +1,7 @@
 // One simulation sharded across processes (docs/SHARDING.md): the shards'
 // partial results merged equal the unsharded run, JSON (but for `wall`) and
 // CSV byte for byte, for every shard count (one, some that do not divide the
-// passes, more than the passes), in the event and cycle modes and under
+// passes, more than the passes), in the event and netlist modes and under
 // fifo_bound, under both Triangle Selector readings, with an injected
 // mismatch; a wrong merge is refused and writes nothing; the emitted job
 // lists run line by line as a Slurm array would and merge to the same run.
@@ -121,7 +121,7 @@ TEST_F(Shard, MoreShardsThanPassesLeaveSomeEmpty) {
 }
 
 TEST_F(Shard, CycleModeAddsUpToTheWholeRun) {
-    expect_shards_add_up({"--trace", "t.trace", "--iccs", "3", "--fifo", "4", "--set", "sim.mode=cycle"}, {2, 3});
+    expect_shards_add_up({"--trace", "t.trace", "--iccs", "3", "--fifo", "4", "--set", "sim.mode=netlist"}, {2, 3});
 }
 
 TEST_F(Shard, FifoBoundAddsUpToTheWholeRun) {

@@ -50,6 +50,9 @@ public:
     ParamSet& add_tables(const std::string& key, const ParamSet& item, const std::string& desc);
     // What dump() says of an optional key that is unset ("auto" unless told).
     ParamSet& unset_means(const std::string& key, std::string word);
+    // A value a string key's choices no longer hold: giving it is an error
+    // "... = 'VALUE' WHY" (WHY says what replaced it).
+    ParamSet& retire_choice(const std::string& key, std::string value, std::string why);
 
     // Reads a TOML file; throws InputError "FILE:LINE: ..." on any problem.
     void load_file(const std::string& path);
@@ -109,6 +112,7 @@ private:
         Value cur;
         double min = 0, max = 0;
         std::vector<std::string> choices;
+        std::map<std::string, std::string> retired;  // value -> why
         std::string desc;
         std::string origin = "default";
         std::string unset = "auto";

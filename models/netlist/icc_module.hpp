@@ -1,0 +1,93 @@
+// One Intersection Calculation Core in the netlist (paper Figure 7): its
+// blocks, the FIFOs between them as channels and the wires between them as
+// signals, bound here. Its state is the Icc of the event engine: each
+// module steps that ICC's block, so the statistics are the same objects.
+//
+// Wires inside the ICC (C: combinational, settled within the cycle; R: a
+// register, changed at the clock edge):
+//   sphere_selector --push--> sphere_fifo --pop--> psi --out (R)--> decoder
+//   decoder --hold (C)--> psi;  decoder --push--> planeid_fifo, first_tri_fifo
+//   decoder --decided (R)--> triangle_selector --pop--> planeid_fifo, first_tri_fifo
+//   triangle_selector --planeid_pop (C)--> decoder
+//   triangle_selector --push--> triangle_fifo --pop--> ray_data_fetcher
+//   ray_data_fetcher --issue (C)--> rti --update--> min_distance_memory --read--> output_link
+//   rti --ready (R)--> ray_data_fetcher;  rti --test--> ray_memory
+// and to the rest of the machine: the two links' record, valid and stall
+// in, sphere_ready and triangle_ready (C) out, and the busy masks the Host
+// reads to end a pass.
+#pragma once
+
+#include <systemc>
+
+#include "decoder_module.hpp"
+#include "fetcher_module.hpp"
+#include "fifo_channel.hpp"
+#include "icc.hpp"
+#include "memories_module.hpp"
+#include "output_link_module.hpp"
+#include "psi_module.hpp"
+#include "rti_module.hpp"
+#include "signals.hpp"
+#include "sphere_selector_module.hpp"
+#include "triangle_selector_module.hpp"
+
+namespace raplas::model::netlist {
+
+// What the Host asks of an ICC before a pass (its results it reads through
+// the Output Link, OutputLinkIf).
+struct IccHostIf : virtual sc_core::sc_interface {
+    // A new pass: group g (or none) in buffer `buf`; with `overlap` the other
+    // buffer's work stays in flight. Loads the group into the Plane and Ray
+    // Memories and resets the blocks for it (Icc::start_pass).
+    virtual void start_pass(const TraceGroup* g, std::uint8_t buf, bool overlap) = 0;
+};
+
+class IccModule : public sc_core::sc_module, public IccHostIf {
+public:
+    sc_core::sc_in<bool> clk;
+    sc_core::sc_in<std::uint32_t> pass;
+    sc_core::sc_in<LinkRecord> sphere_record;
+    sc_core::sc_in<bool> sphere_valid, sphere_stall, sphere_more;
+    sc_core::sc_in<LinkRecord> triangle_record;
+    sc_core::sc_in<bool> triangle_valid, triangle_stall;
+    sc_core::sc_out<bool> sphere_ready, triangle_ready;
+    sc_core::sc_out<BufMask> fetcher_busy, rti_busy;
+    sc_core::sc_export<FifoStatusIf<TriWork>> triangle_fifo_status;
+    sc_core::sc_export<IccHostIf> host;
+    sc_core::sc_export<OutputLinkIf> results;  // the Output Link's
+
+    IccModule(sc_core::sc_module_name n, Icc& icc, bool results_from_trace);
+
+    void start_pass(const TraceGroup* g, std::uint8_t buf, bool overlap) override;
+    // Wires inside the ICC.
+    sc_core::sc_signal<bool> active;           // R: the ICC has a group this pass (set by the Host)
+    sc_core::sc_signal<std::uint8_t> buf;      // R: its buffer
+    sc_core::sc_signal<PsiOut> psi_out;        // R
+    sc_core::sc_signal<bool> hold;             // C
+    sc_core::sc_signal<std::uint32_t> decided; // R
+    sc_core::sc_signal<bool> planeid_pop;      // C
+    sc_core::sc_signal<RtiIssue> rti_issue;    // C
+    sc_core::sc_signal<bool> rti_ready;        // R
+
+    // FIFOs.
+    SphereFifoChannel sphere_fifo;
+    FifoChannelOf<PlaneIdEntry> planeid_fifo;
+    FifoChannelOf<FirstTriEntry> first_tri_fifo;
+    FifoChannelOf<TriWork> triangle_fifo;
+
+    // Blocks.
+    SphereSelectorModule sphere_selector;
+    PsiModule psi;
+    DecoderModule decoder;
+    TriangleSelectorModule triangle_selector;
+    RayDataFetcherModule ray_data_fetcher;
+    RayMemoryModule ray_memory;
+    RtiModule rti;
+    MinDistanceMemoryModule min_distance_memory;
+    OutputLinkModule output_link;
+
+private:
+    Icc& icc_;
+};
+
+}  // namespace raplas::model::netlist
