@@ -11,6 +11,7 @@
 #include <future>
 #include <sstream>
 
+#include "raplas/util/atomic_file.hpp"
 #include "raplas/util/cpu_time.hpp"
 #include "raplas/util/error.hpp"
 #include "raplas/util/parallel.hpp"
@@ -117,9 +118,11 @@ Top::~Top() {
 void Top::setup_vcd() {
     vcd_ = std::make_unique<Vcd>();
     vcd_->final_path = opt_.vcd_path;
-    std::string base = opt_.vcd_path;
+    // A temporary name beside it (".NAME.raplas-tmp-PID.vcd", whose dead
+    // namesakes are removed first), without the ".vcd" SystemC appends.
+    std::string base = temp_path_for(opt_.vcd_path);
     if (base.size() > 4 && base.substr(base.size() - 4) == ".vcd") base.resize(base.size() - 4);
-    vcd_->tmp_base = base + ".tmp" + std::to_string(::getpid());
+    vcd_->tmp_base = base;
     vcd_->file = sc_core::sc_create_vcd_trace_file(vcd_->tmp_base.c_str());
     if (!vcd_->file) throw InputError(opt_.vcd_path + ": cannot create VCD file");
     vcd_->file->set_time_unit(1, sc_core::SC_PS);
