@@ -1065,20 +1065,34 @@ int find_value(const SweepArgs& a) {
         sw.trace_dir = root + "/traces";
         if (run_sweep(sw, b) != 0) throw InputError("--find fifo: the closed-form bound failed (see above)");
         const CsvTable t = parse_csv(read_file(b.out), b.out);
-        const auto c = t.column(target.metric), c_fifo = t.column("fifo_depth");
+        const auto c = t.column(target.metric), c_fifo = t.column("fifo_depth"), c_iccs = t.column("iccs");
+        const auto c_pe = t.column("pe_bound_cycles"), c_mem = t.column("memory_bound_cycles");
         bool all = c.has_value();
         double worst = target.at_least ? 1e300 : -1e300;
+        std::string why;  // what bounds the worst row: the RTI work or the triangle stream
         for (const auto& row : t.rows) {
             if (!c || row[*c].empty() || (c_fifo && row[*c_fifo] != std::to_string(hi))) continue;
             const double x = std::strtod(row[*c].c_str(), nullptr);
-            worst = target.at_least ? std::min(worst, x) : std::max(worst, x);
+            if (target.at_least ? x < worst : x > worst) {
+                worst = x;
+                why.clear();
+                if (c_pe && c_mem && c_iccs) {
+                    const double pe = std::strtod(row[*c_pe].c_str(), nullptr), mem = std::strtod(row[*c_mem].c_str(), nullptr);
+                    why = " at " + row[*c_iccs] + " ICCs, where " +
+                          (pe >= mem ? "the RTI work of each pass's busiest ICC (pe_bound_cycles " + row[*c_pe] +
+                                           ") exceeds the triangle stream's (memory_bound_cycles " + row[*c_mem] + ")"
+                                     : "the triangle stream (memory_bound_cycles " + row[*c_mem] +
+                                           ") exceeds the RTI work of each pass's busiest ICC (pe_bound_cycles " +
+                                           row[*c_pe] + ")");
+                }
+            }
             all = all && target.met(x);
         }
         if (c) {
             char buf[256];
             std::snprintf(buf, sizeof buf, "with FIFOs unbounded (sim.estimate = fifo_bound, the limit of deep FIFOs) %s is %.6g",
                           target.metric.c_str(), worst);
-            cap = buf;
+            cap = buf + why;
             capped = !all;
             if (!a.quiet) std::printf("find: %s: %s\n", cap.c_str(), all ? "the target may be met" : "the target cannot be met"), std::fflush(stdout);
         }

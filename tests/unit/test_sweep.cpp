@@ -546,3 +546,32 @@ TEST_F(Sweep, FindRefusesWhatItCannotSearch) {
         EXPECT_FALSE(fs::exists(dir / "x.csv")) << needle;
     }
 }
+
+// A table of one engine checks against another's when every figure is equal
+// (config_hash leaves the engine out, --check the engine column), and still
+// fails on a differing figure; a baseline row says its answers were not checked.
+TEST_F(Sweep, CheckAcrossEnginesPassesWhenEveryFigureIsEqual) {
+    const std::vector<std::string> base = plus(
+        {"sweep", "-q", "--iccs", "1,2", "--fifo", "4", "--vary", "memory.system=streaming,shared"}, kTiny);
+    const RunResult ref = run(plus(base, {"--out", "event.csv", "--update", "ref.csv"}));
+    ASSERT_EQ(ref.code, 0) << ref.err;
+    const RunResult net = run(plus(base, {"--set", "sim.mode=netlist", "--out", "netlist.csv", "--check", "ref.csv"}));
+    EXPECT_EQ(net.code, 0) << net.out << net.err;
+    const auto rows = parse_csv(slurp(dir / "netlist.csv"));
+    ASSERT_EQ(rows.size(), 4u);
+    for (const auto& r : rows) {
+        EXPECT_EQ(r.at("engine"), "netlist");
+        const bool streaming = r.at("memory.system") == "streaming";
+        EXPECT_EQ(r.at("functional_checked"), streaming ? "true" : "false") << "a baseline checks no answer";
+    }
+    // One figure changed in the reference: the check fails, naming it.
+    std::string text = slurp(dir / "ref.csv");
+    const std::string cycles = parse_csv(slurp(dir / "event.csv"))[0].at("total_cycles");
+    const std::size_t at = text.find("," + cycles + ",");
+    ASSERT_NE(at, std::string::npos);
+    text.replace(at + 1, cycles.size(), std::to_string(std::stoull(cycles) + 1));
+    std::ofstream(dir / "ref2.csv") << text;
+    const RunResult off = run(plus(base, {"--set", "sim.mode=netlist", "--out", "netlist2.csv", "--check", "ref2.csv"}));
+    EXPECT_EQ(off.code, 1);
+    EXPECT_THAT(off.out, HasSubstr("total_cycles " + cycles));
+}
