@@ -22,7 +22,7 @@
 #include "decoder_module.hpp"
 #include "fetcher_module.hpp"
 #include "fifo_channel.hpp"
-#include "icc.hpp"
+#include "../icc.hpp"
 #include "memories_module.hpp"
 #include "output_link_module.hpp"
 #include "psi_module.hpp"
