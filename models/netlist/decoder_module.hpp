@@ -9,7 +9,7 @@
 
 #include <systemc>
 
-#include "decoder.hpp"
+#include "../decoder.hpp"
 #include "fifo_channel.hpp"
 #include "signals.hpp"
 

@@ -10,7 +10,7 @@
 #include <systemc>
 
 #include "fifo_channel.hpp"
-#include "ray_data_fetcher.hpp"
+#include "../ray_data_fetcher.hpp"
 #include "signals.hpp"
 
 namespace raplas::model::netlist {

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "fifo.hpp"
+#include "../fifo.hpp"
 #include "signals.hpp"
 
 namespace raplas::model::netlist {

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "fifo_channel.hpp"
-#include "host.hpp"
+#include "../host.hpp"
 #include "icc_module.hpp"
 #include "signals.hpp"
 

@@ -3,7 +3,15 @@
 namespace raplas::model::netlist {
 
 IccModule::IccModule(sc_core::sc_module_name n, Icc& icc, bool results_from_trace)
+    : IccModule(n, nullptr, &icc, results_from_trace) {}
+
+IccModule::IccModule(sc_core::sc_module_name n, const Icc::Params& params, const Functional& f)
+    : IccModule(n, std::make_unique<Icc>(params, f), nullptr, f.mode() == FunctionalMode::trace) {}
+
+IccModule::IccModule(sc_core::sc_module_name n, std::unique_ptr<Icc> owned, Icc* shared, bool results_from_trace)
     : sc_core::sc_module(n),
+      owned_(std::move(owned)),
+      icc_(shared ? *shared : *owned_),
       clk("clk"),
       pass("pass"),
       sphere_record("sphere_record"),
@@ -28,20 +36,19 @@ IccModule::IccModule(sc_core::sc_module_name n, Icc& icc, bool results_from_trac
       planeid_pop("planeid_pop"),
       rti_issue("rti_issue"),
       rti_ready("rti_ready"),
-      sphere_fifo("sphere_fifo", icc.sphere_fifo),
-      planeid_fifo("planeid_fifo", icc.planeid_fifo),
-      first_tri_fifo("first_tri_fifo", icc.first_tri_fifo),
-      triangle_fifo("triangle_fifo", icc.triangle_fifo),
-      sphere_selector("sphere_selector", icc.sphere_selector),
-      psi("psi", icc.psi),
-      decoder("decoder", icc.decoder),
-      triangle_selector("triangle_selector", icc.triangle_selector),
-      ray_data_fetcher("ray_data_fetcher", icc.ray_data_fetcher, icc.params().rti.pipes),
-      ray_memory("ray_memory", icc),
-      rti("rti", icc.rti),
-      min_distance_memory("min_distance_memory", icc),
-      output_link("output_link", icc.output, results_from_trace),
-      icc_(icc) {
+      sphere_fifo("sphere_fifo", icc_.sphere_fifo),
+      planeid_fifo("planeid_fifo", icc_.planeid_fifo),
+      first_tri_fifo("first_tri_fifo", icc_.first_tri_fifo),
+      triangle_fifo("triangle_fifo", icc_.triangle_fifo),
+      sphere_selector("sphere_selector", icc_.sphere_selector),
+      psi("psi", icc_.psi),
+      decoder("decoder", icc_.decoder),
+      triangle_selector("triangle_selector", icc_.triangle_selector),
+      ray_data_fetcher("ray_data_fetcher", icc_.ray_data_fetcher, icc_.params().rti.pipes),
+      ray_memory("ray_memory", icc_),
+      rti("rti", icc_.rti),
+      min_distance_memory("min_distance_memory", icc_),
+      output_link("output_link", icc_.output, results_from_trace) {
     host(*this);
     results(output_link.host);
     triangle_fifo_status(triangle_fifo);

@@ -19,10 +19,12 @@
 
 #include <systemc>
 
+#include <memory>
+
 #include "decoder_module.hpp"
 #include "fetcher_module.hpp"
 #include "fifo_channel.hpp"
-#include "icc.hpp"
+#include "../icc.hpp"
 #include "memories_module.hpp"
 #include "output_link_module.hpp"
 #include "psi_module.hpp"
@@ -43,6 +45,9 @@ struct IccHostIf : virtual sc_core::sc_interface {
 };
 
 class IccModule : public sc_core::sc_module, public IccHostIf {
+    std::unique_ptr<Icc> owned_;  // (first: the blocks below are built on it)
+    Icc& icc_;
+
 public:
     sc_core::sc_in<bool> clk;
     sc_core::sc_in<std::uint32_t> pass;
@@ -56,7 +61,18 @@ public:
     sc_core::sc_export<IccHostIf> host;
     sc_core::sc_export<OutputLinkIf> results;  // the Output Link's
 
+    // The netlist's: the blocks step `icc`, which the caller owns (Top: the
+    // event engine steps the same objects); with `results_from_trace` the
+    // Output Link returns a group's hits from the trace (sim.functional = trace).
     IccModule(sc_core::sc_module_name n, Icc& icc, bool results_from_trace);
+    // An ICC of its own, in a testbench or platform of the caller's
+    // (examples/embed_icc, docs/MODEL.md §2, "Embedding an ICC"): its state
+    // made from `params` and the functional model `f` of the scene (the
+    // spheres and triangles the links will broadcast), which must outlive it.
+    IccModule(sc_core::sc_module_name n, const Icc::Params& params, const Functional& f);
+
+    // Its blocks' state and statistics.
+    const Icc& state() const { return icc_; }
 
     void start_pass(const TraceGroup* g, std::uint8_t buf, bool overlap) override;
     // Wires inside the ICC.
@@ -87,7 +103,7 @@ public:
     OutputLinkModule output_link;
 
 private:
-    Icc& icc_;
+    IccModule(sc_core::sc_module_name n, std::unique_ptr<Icc> owned, Icc* icc, bool results_from_trace);
 };
 
 }  // namespace raplas::model::netlist

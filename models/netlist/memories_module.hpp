@@ -9,7 +9,7 @@
 
 #include <vector>
 
-#include "icc.hpp"
+#include "../icc.hpp"
 
 namespace raplas::model::netlist {
 

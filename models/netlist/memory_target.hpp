@@ -21,7 +21,7 @@
 
 #include <cstring>
 
-#include "memories.hpp"
+#include "../memories.hpp"
 
 namespace raplas::model::netlist {
 

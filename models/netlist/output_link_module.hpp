@@ -6,7 +6,7 @@
 #include <systemc>
 
 #include "memories_module.hpp"
-#include "output_link.hpp"
+#include "../output_link.hpp"
 
 namespace raplas::model::netlist {
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "fifo_channel.hpp"
-#include "plane_sphere_intersector.hpp"
+#include "../plane_sphere_intersector.hpp"
 #include "signals.hpp"
 
 namespace raplas::model::netlist {

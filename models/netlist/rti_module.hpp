@@ -8,7 +8,7 @@
 #include <systemc>
 
 #include "memories_module.hpp"
-#include "ray_triangle_intersector.hpp"
+#include "../ray_triangle_intersector.hpp"
 #include "signals.hpp"
 
 namespace raplas::model::netlist {

@@ -8,8 +8,8 @@
 #include <ostream>
 #include <string>
 
-#include "plane_sphere_intersector.hpp"
-#include "ray_triangle_intersector.hpp"
+#include "../plane_sphere_intersector.hpp"
+#include "../ray_triangle_intersector.hpp"
 
 namespace raplas::model::netlist {
 

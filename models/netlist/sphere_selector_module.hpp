@@ -10,7 +10,7 @@
 
 #include "fifo_channel.hpp"
 #include "signals.hpp"
-#include "sphere_selector.hpp"
+#include "../sphere_selector.hpp"
 
 namespace raplas::model::netlist {
 

@@ -18,7 +18,7 @@
 
 #include "memory_target.hpp"
 #include "signals.hpp"
-#include "stream_link.hpp"
+#include "../stream_link.hpp"
 
 namespace raplas::model::netlist {
 

@@ -12,7 +12,7 @@
 
 #include "fifo_channel.hpp"
 #include "signals.hpp"
-#include "triangle_selector.hpp"
+#include "../triangle_selector.hpp"
 
 namespace raplas::model::netlist {
 
