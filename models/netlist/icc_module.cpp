@@ -2,7 +2,24 @@
 
 namespace raplas::model::netlist {
 
-IccModule::IccModule(sc_core::sc_module_name n, Icc& icc, bool results_from_trace)
+namespace {
+
+std::unique_ptr<TriangleSelectorRtl> make_triangle_selector_rtl(Icc& icc, RtlBlock rtl, bool full_early) {
+    if (rtl != RtlBlock::triangle_selector) return nullptr;
+#ifdef RAPLAS_HAVE_RTL
+    return std::make_unique<TriangleSelectorRtl>("triangle_selector", icc.triangle_selector, icc.triangle_fifo,
+                                                 full_early);
+#else
+    (void)icc;
+    (void)full_early;
+    SC_REPORT_FATAL("raplas", "sim.rtl: this build has no RTL (config_from_params refuses it)");
+    return nullptr;
+#endif
+}
+
+}  // namespace
+
+IccModule::IccModule(sc_core::sc_module_name n, Icc& icc, bool results_from_trace, RtlBlock rtl, bool rtl_full_early)
     : sc_core::sc_module(n),
       clk("clk"),
       pass("pass"),
@@ -28,14 +45,20 @@ IccModule::IccModule(sc_core::sc_module_name n, Icc& icc, bool results_from_trac
       planeid_pop("planeid_pop"),
       rti_issue("rti_issue"),
       rti_ready("rti_ready"),
+      triangle_pop(rtl != RtlBlock::none ? std::make_unique<sc_core::sc_signal<std::uint32_t>>("triangle_pop")
+                                         : nullptr),
       sphere_fifo("sphere_fifo", icc.sphere_fifo),
       planeid_fifo("planeid_fifo", icc.planeid_fifo),
       first_tri_fifo("first_tri_fifo", icc.first_tri_fifo),
-      triangle_fifo("triangle_fifo", icc.triangle_fifo),
+      triangle_fifo(rtl == RtlBlock::none ? std::make_unique<FifoChannelOf<TriWork>>("triangle_fifo", icc.triangle_fifo)
+                                          : nullptr),
       sphere_selector("sphere_selector", icc.sphere_selector),
       psi("psi", icc.psi),
       decoder("decoder", icc.decoder),
-      triangle_selector("triangle_selector", icc.triangle_selector),
+      triangle_selector(rtl == RtlBlock::none
+                            ? std::make_unique<TriangleSelectorModule>("triangle_selector", icc.triangle_selector)
+                            : nullptr),
+      triangle_selector_rtl(make_triangle_selector_rtl(icc, rtl, rtl_full_early)),
       ray_data_fetcher("ray_data_fetcher", icc.ray_data_fetcher, icc.params().rti.pipes),
       ray_memory("ray_memory", icc),
       rti("rti", icc.rti),
@@ -44,7 +67,6 @@ IccModule::IccModule(sc_core::sc_module_name n, Icc& icc, bool results_from_trac
       icc_(icc) {
     host(*this);
     results(output_link.host);
-    triangle_fifo_status(triangle_fifo);
 
     sphere_selector.clk(clk);
     sphere_selector.pass(pass);
@@ -73,24 +95,36 @@ IccModule::IccModule(sc_core::sc_module_name n, Icc& icc, bool results_from_trac
     decoder.hold(hold);
     decoder.decided(decided);
 
-    triangle_selector.clk(clk);
-    triangle_selector.pass(pass);
-    triangle_selector.active(active);
-    triangle_selector.buf(buf);
-    triangle_selector.decided(decided);
-    triangle_selector.record(triangle_record);
-    triangle_selector.valid(triangle_valid);
-    triangle_selector.stall(triangle_stall);
-    triangle_selector.planeid(planeid_fifo);
-    triangle_selector.first_tri(first_tri_fifo);
-    triangle_selector.fifo(triangle_fifo);
-    triangle_selector.ready(triangle_ready);
-    triangle_selector.planeid_pop(planeid_pop);
+    auto bind_selector = [&](auto& ts) {
+        ts.clk(clk);
+        ts.active(active);
+        ts.buf(buf);
+        ts.decided(decided);
+        ts.record(triangle_record);
+        ts.valid(triangle_valid);
+        ts.stall(triangle_stall);
+        ts.planeid(planeid_fifo);
+        ts.first_tri(first_tri_fifo);
+        ts.ready(triangle_ready);
+        ts.planeid_pop(planeid_pop);
+    };
+    if (triangle_selector) {
+        bind_selector(*triangle_selector);
+        triangle_selector->pass(pass);
+        triangle_selector->fifo(*triangle_fifo);
+        triangle_fifo_status(*triangle_fifo);
+        ray_data_fetcher.fifo(*triangle_fifo);
+    } else {
+        bind_selector(*triangle_selector_rtl);
+        triangle_selector_rtl->fetcher_pop(*triangle_pop);
+        ray_data_fetcher.pop(*triangle_pop);
+        triangle_fifo_status(*triangle_selector_rtl);
+        ray_data_fetcher.fifo(*triangle_selector_rtl);
+    }
 
     ray_data_fetcher.clk(clk);
     ray_data_fetcher.pass(pass);
     ray_data_fetcher.rti_ready(rti_ready);
-    ray_data_fetcher.fifo(triangle_fifo);
     ray_data_fetcher.issue(rti_issue);
     ray_data_fetcher.busy(fetcher_busy);
 
@@ -106,13 +140,19 @@ IccModule::IccModule(sc_core::sc_module_name n, Icc& icc, bool results_from_trac
 }
 
 void IccModule::start_pass(const TraceGroup* g, std::uint8_t b, bool overlap) {
+    end_pass();  // (Icc::start_pass reads the Triangle Selector's count)
     icc_.start_pass(g, b, overlap);
     active.write(g != nullptr);
     if (g) buf.write(b);
     sphere_fifo.refresh();
     planeid_fifo.refresh();
     first_tri_fifo.refresh();
-    triangle_fifo.refresh();
+    if (triangle_fifo) triangle_fifo->refresh();
+    else triangle_selector_rtl->start_pass(overlap);
+}
+
+void IccModule::end_pass() {
+    if (triangle_selector_rtl) triangle_selector_rtl->read_counters();
 }
 
 }  // namespace raplas::model::netlist
