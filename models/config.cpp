@@ -113,6 +113,11 @@ ParamSet machine_params() {
                  {"event", "netlist"});
     p.retire_choice("sim.mode", "cycle",
                     "is retired: sim.mode = netlist steps every block in every cycle (the reference, docs/MODEL.md §2)");
+    p.add_string("sim.rtl", std::string("none"),
+                 "sim.mode = netlist: a block co-simulated as Verilog RTL in place of its C++ module (rtl/, made a "
+                 "SystemC module by Verilator at build time), with the same cycles and statistics: "
+                 "triangle_selector = the Triangle Selector with its Triangle FIFO (docs/MODEL.md §2)",
+                 {"none", "triangle_selector"});
     p.add_string("sim.estimate", std::string("exact"),
                  "exact = simulate every pass; sample_passes = simulate every primary pass and a stratified "
                  "sample of the shadow passes and extrapolate total cycles, with a 95 % confidence half-width "
@@ -132,8 +137,10 @@ ParamSet machine_params() {
                  "fault injection, to provoke the watchdog: stuck_rti = ICC sim.fault_icc's Ray-Triangle "
                  "Intersector takes no pair; stuck_psi = its Plane-Sphere Intersector takes no sphere; or the "
                  "functional check: wrong_rti = the first ray-triangle test of that ICC that misses reports a "
-                 "hit at distance 0 (needs sim.functional = compute)",
-                 {"none", "stuck_rti", "stuck_psi", "wrong_rti"});
+                 "hit at distance 0 (needs sim.functional = compute); or the RTL check: rtl_full_early = that "
+                 "ICC's RTL Triangle FIFO reports full one entry early (the broken variant built beside the RTL; "
+                 "needs sim.rtl = triangle_selector)",
+                 {"none", "stuck_rti", "stuck_psi", "wrong_rti", "rtl_full_early"});
     p.add_int("sim.fault_icc", 0, 0, 4095, "the ICC sim.fault applies to (it must have a group to stall or test)");
     return p;
 }
@@ -205,6 +212,7 @@ SimConfig config_from_params(const ParamSet& p) {
     c.cull = p.get_bool("sim.cull");
     const std::string mode = p.get_string("sim.mode");
     c.mode = mode == "netlist" ? SimMode::netlist : SimMode::event;
+    c.rtl = p.get_string("sim.rtl") == "triangle_selector" ? RtlBlock::triangle_selector : RtlBlock::none;
     c.sync_cycles = std::uint64_t(p.get_int("sim.sync_cycles"));
     const std::string estimate = p.get_string("sim.estimate");
     c.estimate = estimate == "sample_passes" ? Estimate::sample_passes
@@ -219,11 +227,28 @@ SimConfig config_from_params(const ParamSet& p) {
     c.fault = fault == "stuck_rti"   ? Fault::stuck_rti
               : fault == "stuck_psi" ? Fault::stuck_psi
               : fault == "wrong_rti" ? Fault::wrong_rti
+              : fault == "rtl_full_early" ? Fault::rtl_full_early
                                      : Fault::none;
     c.fault_icc = std::uint32_t(p.get_int("sim.fault_icc"));
     if (c.estimate == Estimate::fifo_bound && c.fault != Fault::none)
         throw InputError(p.origin("sim.fault") + ": sim.fault = " + fault +
                          " needs a simulation, but sim.estimate = fifo_bound computes the cycles in closed form");
+    if (c.rtl != RtlBlock::none) {
+        const std::string what = p.origin("sim.rtl") + ": sim.rtl = " + rtl_block_name(c.rtl);
+        if (!rtl_built())
+            throw InputError(what + " needs the RTL co-simulation, which this build lacks (Verilator was not found "
+                                    "when it was configured): install verilator (tools/install-deps.sh) and configure "
+                                    "the build again");
+        if (c.mode != SimMode::netlist)
+            throw InputError(what + " replaces a block of the netlist: it needs sim.mode = netlist (here " +
+                             sim_mode_name(c.mode) + ")");
+        if (c.estimate == Estimate::fifo_bound)
+            throw InputError(what + " needs a simulation, but sim.estimate = fifo_bound computes the cycles in "
+                                    "closed form");
+    }
+    if (c.fault == Fault::rtl_full_early && c.rtl != RtlBlock::triangle_selector)
+        throw InputError(p.origin("sim.fault") +
+                         ": sim.fault = rtl_full_early breaks the RTL Triangle FIFO: it needs sim.rtl = triangle_selector");
     if (c.fault == Fault::wrong_rti && c.functional != FunctionalMode::compute)
         throw InputError(p.origin("sim.fault") +
                          ": sim.fault = wrong_rti needs sim.functional = compute (the trace mode takes its answers "
@@ -246,7 +271,15 @@ const WorkloadKey kWorkloadKeys[3] = {
 
 bool result_neutral_key(const std::string& key) {
     return key == "sim.mode" || key == "sim.functional" || key == "sim.sync_cycles" || key == "sim.watchdog_cycles" ||
-           key == "sim.cull";
+           key == "sim.cull" || key == "sim.rtl";
+}
+
+bool rtl_built() {
+#ifdef RAPLAS_HAVE_RTL
+    return true;
+#else
+    return false;
+#endif
 }
 
 std::string inert_config_key(const ParamSet& p, const std::string& key) {

@@ -15,6 +15,12 @@ namespace raplas::model {
 enum class SimMode { event, netlist };
 inline const char* sim_mode_name(SimMode m) { return m == SimMode::netlist ? "netlist" : "event"; }
 enum class Estimate { exact, sample_passes, fifo_bound };
+// sim.rtl: a block of the netlist co-simulated as Verilog RTL (rtl/, made a
+// SystemC module by Verilator when the build finds it; docs/MODEL.md §2).
+enum class RtlBlock { none, triangle_selector };
+inline const char* rtl_block_name(RtlBlock b) { return b == RtlBlock::triangle_selector ? "triangle_selector" : "none"; }
+// Whether this build has the RTL blocks (Verilator was found when it was configured).
+bool rtl_built();
 
 // The memory system (paper Figure 5, §5.2; docs/MODEL.md §6): the streaming
 // machine (the SystemC model), or a baseline computed from the same trace.
@@ -44,6 +50,7 @@ struct SimConfig {
     FunctionalMode functional = FunctionalMode::compute;
     bool cull = true;  // compute mode: skip spheres a group provably misses (core/cull.hpp)
     SimMode mode = SimMode::event;
+    RtlBlock rtl = RtlBlock::none;  // netlist: the block co-simulated as RTL
     std::uint64_t sync_cycles = 4096;      // cycles between watchdog checks (event mode: and kernel time updates)
     std::uint64_t watchdog_cycles = 1000000;
     // sample_passes: simulate every primary pass and a stratified sample of
@@ -86,8 +93,9 @@ std::string inert_scene_key(const ParamSet& p, const std::string& key);
 void resolve_workload(ParamSet& p, std::uint32_t group_size, std::uint32_t shadow_group_size,
                       std::uint32_t triangles_per_sphere);
 // Keys that choose how a result is computed, not what it is: the engine
-// (sim.mode), the functional check (sim.functional), kernel time updates, the
-// watchdog and the compute mode's culling. config_hash leaves them out, so a
+// (sim.mode), a block co-simulated as RTL (sim.rtl), the functional check
+// (sim.functional), kernel time updates, the watchdog and the compute mode's
+// culling. config_hash leaves them out, so a
 // run of another engine with equal figures has the same hash; the engine is
 // a result column of its own (docs/SWEEPS.md, "Provenance").
 bool result_neutral_key(const std::string& key);

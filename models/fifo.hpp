@@ -66,6 +66,11 @@ public:
         head_ = 0;
         count_ = 0;
     }
+    // The storage as a RAM of depth() entries, slot a (a < depth()), for a
+    // FIFO controller of its own: the RTL Triangle FIFO (sim.rtl), which
+    // keeps the pointers and the occupancy; this FIFO's are then unused.
+    T& ram(std::uint32_t a) { return buf_[a]; }
+    const T& ram(std::uint32_t a) const { return buf_[a]; }
     void note_full(std::uint64_t cycles = 1) { stats_.full_cycles += cycles; }
     // Event-driven simulation keeps the contents elsewhere and records here:
     // `n` pushes, the largest occupancy they left being `occupancy`.

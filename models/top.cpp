@@ -146,12 +146,13 @@ IccView Top::view_of(const Icc& c, std::size_t k) const {
     v.sphere_depth = c.sphere_fifo.depth();
     v.planeid_fifo = std::max(c.planeid_fifo.size(), c.first_tri_fifo.size());
     v.planeid_depth = c.planeid_fifo.depth();
-    v.triangle_fifo = c.triangle_fifo.size();
+    // (in the netlist through the ICC's port: its Triangle FIFO may be RTL, sim.rtl)
+    v.triangle_fifo = netlist_ ? netlist_->iccs[k].triangle_fifo_status->size() : c.triangle_fifo.size();
     v.triangle_depth = c.triangle_fifo.depth();
     v.decided = c.decoder.decided();
     v.psi_held = c.psi.has_output() && queued(c.psi.output(), cfg_.icc.decoder.select) &&
                  (c.planeid_fifo.full() || c.first_tri_fifo.full());
-    v.back_busy = !c.back_idle();
+    v.back_busy = !(c.rti.empty() && c.ray_data_fetcher.idle() && v.triangle_fifo == 0);
     return v;
 }
 

@@ -9,6 +9,7 @@ const char* fault_name(Fault f) {
         case Fault::stuck_rti: return "stuck_rti";
         case Fault::stuck_psi: return "stuck_psi";
         case Fault::wrong_rti: return "wrong_rti";
+        case Fault::rtl_full_early: return "rtl_full_early";
         case Fault::none: break;
     }
     return "none";

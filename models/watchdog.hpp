@@ -12,8 +12,10 @@ namespace raplas::model {
 
 // Fault injection (sim.fault): makes one block of one ICC stop making
 // progress, to provoke the watchdog (stuck_*), or gives one wrong answer, to
-// provoke the functional check (wrong_rti). Off by default.
-enum class Fault { none, stuck_rti, stuck_psi, wrong_rti };
+// provoke the functional check (wrong_rti), or builds that ICC's RTL Triangle
+// FIFO from its broken variant, to provoke the RTL co-simulation check
+// (rtl_full_early). Off by default.
+enum class Fault { none, stuck_rti, stuck_psi, wrong_rti, rtl_full_early };
 
 const char* fault_name(Fault f);
 

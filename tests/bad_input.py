@@ -62,7 +62,8 @@ def doc_text(cases):
         "CI runs every row (`tests/unit/test_bad_input.cpp`, ctest `BadInputTable.*`) in a fresh",
         "directory holding the files shown, and checks the exit code, the whole of stderr and that",
         "a refused run leaves no file behind; `ctest -R bad_input_doc` checks that this page is the",
-        "table.",
+        "table. A row said to hold in a build with (or without) Verilator runs only in such a build",
+        "(the RTL co-simulation, `sim.rtl`; CI's builds have Verilator).",
         "",
         "Exit codes: 0 success, 2 bad input or usage (one line `raplas: error: ...` naming the file",
         "and line, or the key or option), 1 internal error. `...` in a message stands for text left",
@@ -125,7 +126,10 @@ def doc_text(cases):
         files += ["then " + describe_file(n, s) for n, s in c.get("change", {}).items()]
         files += [f"afterwards {md_code(n)} is gone" for n in c.get("absent", [])]
         env = [md_code(f"{k}={v}") for k, v in c.get("env", {}).items()]
-        what = c["what"] + (f" ({c['note']})" if c.get("note") else "")
+        notes = [c["note"]] if c.get("note") else []
+        if "rtl" in c:  # run only in builds with (without) Verilator
+            notes.append(f"checked only in a build {'with' if c['rtl'] else 'without'} Verilator")
+        what = c["what"] + (f" ({'; '.join(notes)})" if notes else "")
         msg = "<br>".join(md_code(m) for m in expected_lines(c)) or "(nothing)"
         out.append(f"| {what} | {'<br>'.join(env + [cmd] + files)} | {c['exit']} | {msg} |")
     return "\n".join(out) + "\n"

@@ -74,7 +74,7 @@ def json_diff(a, b, skip=frozenset(), path=""):
 PROVENANCE = frozenset({"overrides", "config_hash", "resolved_config", "engine"})
 # Keys that choose how a result is computed, not what it is: config_hash leaves
 # them out (model::result_neutral_key), so runs that differ only in them have one hash.
-RESULT_NEUTRAL = frozenset({"sim.mode", "sim.functional", "sim.sync_cycles", "sim.watchdog_cycles", "sim.cull"})
+RESULT_NEUTRAL = frozenset({"sim.mode", "sim.rtl", "sim.functional", "sim.sync_cycles", "sim.watchdog_cycles", "sim.cull"})
 
 
 def provenance_diff(a, b, varied):

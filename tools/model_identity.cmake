@@ -1,6 +1,6 @@
 # Writes OUT: a C++ file defining raplas::model_identity(), 16 hex digits of
 # the SHA-256 of every source file that decides a result (the core, scene,
-# front-end, utility and model sources and headers, and the shipped configs),
+# front-end, utility and model sources and headers, the RTL, and the shipped configs),
 # each named by its path relative to SRC. A build from the same sources gets
 # the same identity whatever the compiler or flags; any change to an engine,
 # the front end or a default config gives another. Run at build time:
@@ -9,7 +9,7 @@
 file(GLOB_RECURSE files RELATIVE "${SRC}"
      "${SRC}/src/core/*" "${SRC}/src/scene/*" "${SRC}/src/frontend/*" "${SRC}/src/util/*"
      "${SRC}/include/raplas/core/*" "${SRC}/include/raplas/scene/*" "${SRC}/include/raplas/frontend/*"
-     "${SRC}/include/raplas/util/*" "${SRC}/models/*" "${SRC}/configs/*")
+     "${SRC}/include/raplas/util/*" "${SRC}/models/*" "${SRC}/rtl/*" "${SRC}/configs/*")
 list(SORT files)
 set(manifest "")
 foreach(f IN LISTS files)

@@ -26,6 +26,9 @@ public:
     sc_core::sc_port<FifoReadIf<TriWork>> fifo;    // the Triangle FIFO
     sc_core::sc_out<RtiIssue> issue;               // the pairs entering the RTI this cycle
     sc_core::sc_out<BufMask> busy;                 // the buffers whose work it holds (registered)
+    // The Triangle FIFO entries it takes at the next edge (C): bound only
+    // where the FIFO is RTL (sim.rtl), whose read pointer moves on it.
+    sc_core::sc_port<sc_core::sc_signal_inout_if<std::uint32_t>, 1, sc_core::SC_ZERO_OR_MORE_BOUND> pop;
 
     SC_HAS_PROCESS(RayDataFetcherModule);
     RayDataFetcherModule(sc_core::sc_module_name n, RayDataFetcher& core, std::uint32_t rti_pipes)
@@ -36,6 +39,7 @@ public:
           fifo("fifo"),
           issue("issue"),
           busy("busy"),
+          pop("pop"),
           core_(core),
           next_(core),
           pipes_(rti_pipes) {
@@ -75,6 +79,7 @@ private:
         next_.tick(in, out);
         taken_ = in.taken;
         issue.write(out.pairs);
+        if (pop.size()) pop->write(taken_);
     }
     void tick() {
         if (pass.event()) {  // a new pass (the ICC may have cleared it; plan runs again)

@@ -30,6 +30,7 @@ std::uint64_t HostModule::run_pass(const std::vector<const TraceGroup*>& groups,
     running_ = true;
     pass.write(++number_);
     wait(ended_);
+    for (std::size_t k = 0; k < icc.size(); ++k) icc[k]->end_pass();
     return cycles_;
 }
 

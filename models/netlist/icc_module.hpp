@@ -10,6 +10,8 @@
 //   decoder --decided (R)--> triangle_selector --pop--> planeid_fifo, first_tri_fifo
 //   triangle_selector --planeid_pop (C)--> decoder
 //   triangle_selector --push--> triangle_fifo --pop--> ray_data_fetcher
+//   (sim.rtl = triangle_selector: both are the RTL block triangle_selector,
+//   and ray_data_fetcher --triangle_pop (C)--> it)
 //   ray_data_fetcher --issue (C)--> rti --update--> min_distance_memory --read--> output_link
 //   rti --ready (R)--> ray_data_fetcher;  rti --test--> ray_memory
 // and to the rest of the machine: the two links' record, valid and stall
@@ -24,11 +26,13 @@
 #include "decoder_module.hpp"
 #include "fetcher_module.hpp"
 #include "fifo_channel.hpp"
+#include "../config.hpp"
 #include "../icc.hpp"
 #include "memories_module.hpp"
 #include "output_link_module.hpp"
 #include "psi_module.hpp"
 #include "rti_module.hpp"
+#include "rtl/triangle_selector_rtl.hpp"
 #include "signals.hpp"
 #include "sphere_selector_module.hpp"
 #include "triangle_selector_module.hpp"
@@ -42,6 +46,9 @@ struct IccHostIf : virtual sc_core::sc_interface {
     // buffer's work stays in flight. Loads the group into the Plane and Ray
     // Memories and resets the blocks for it (Icc::start_pass).
     virtual void start_pass(const TraceGroup* g, std::uint8_t buf, bool overlap) = 0;
+    // The pass has ended: the ICC's statistics are brought up to date (an
+    // RTL block's counters read into its Stats).
+    virtual void end_pass() = 0;
 };
 
 class IccModule : public sc_core::sc_module, public IccHostIf {
@@ -64,17 +71,22 @@ public:
     // The netlist's: the blocks step `icc`, which the caller owns (Top: the
     // event engine steps the same objects); with `results_from_trace` the
     // Output Link returns a group's hits from the trace (sim.functional = trace).
-    IccModule(sc_core::sc_module_name n, Icc& icc, bool results_from_trace);
+    // `rtl`: the block co-simulated as RTL (sim.rtl); `rtl_full_early`: its
+    // broken variant (sim.fault = rtl_full_early).
+    IccModule(sc_core::sc_module_name n, Icc& icc, bool results_from_trace, RtlBlock rtl = RtlBlock::none,
+              bool rtl_full_early = false);
     // An ICC of its own, in a testbench or platform of the caller's
     // (examples/embed_icc, docs/MODEL.md §2, "Embedding an ICC"): its state
     // made from `params` and the functional model `f` of the scene (the
     // spheres and triangles the links will broadcast), which must outlive it.
-    IccModule(sc_core::sc_module_name n, const Icc::Params& params, const Functional& f);
+    IccModule(sc_core::sc_module_name n, const Icc::Params& params, const Functional& f,
+              RtlBlock rtl = RtlBlock::none);
 
     // Its blocks' state and statistics.
     const Icc& state() const { return icc_; }
 
     void start_pass(const TraceGroup* g, std::uint8_t buf, bool overlap) override;
+    void end_pass() override;
     // Wires inside the ICC.
     sc_core::sc_signal<bool> active;           // R: the ICC has a group this pass (set by the Host)
     sc_core::sc_signal<std::uint8_t> buf;      // R: its buffer
@@ -84,18 +96,20 @@ public:
     sc_core::sc_signal<bool> planeid_pop;      // C
     sc_core::sc_signal<RtiIssue> rti_issue;    // C
     sc_core::sc_signal<bool> rti_ready;        // R
+    std::unique_ptr<sc_core::sc_signal<std::uint32_t>> triangle_pop;  // C (sim.rtl = triangle_selector)
 
-    // FIFOs.
+    // FIFOs (the Triangle FIFO's channel only with the C++ Triangle Selector).
     SphereFifoChannel sphere_fifo;
     FifoChannelOf<PlaneIdEntry> planeid_fifo;
     FifoChannelOf<FirstTriEntry> first_tri_fifo;
-    FifoChannelOf<TriWork> triangle_fifo;
+    std::unique_ptr<FifoChannelOf<TriWork>> triangle_fifo;
 
-    // Blocks.
+    // Blocks: the Triangle Selector (with the Triangle FIFO) is C++ or RTL.
     SphereSelectorModule sphere_selector;
     PsiModule psi;
     DecoderModule decoder;
-    TriangleSelectorModule triangle_selector;
+    std::unique_ptr<TriangleSelectorModule> triangle_selector;
+    std::unique_ptr<TriangleSelectorRtl> triangle_selector_rtl;
     RayDataFetcherModule ray_data_fetcher;
     RayMemoryModule ray_memory;
     RtiModule rti;
@@ -103,7 +117,8 @@ public:
     OutputLinkModule output_link;
 
 private:
-    IccModule(sc_core::sc_module_name n, std::unique_ptr<Icc> owned, Icc* icc, bool results_from_trace);
+    IccModule(sc_core::sc_module_name n, std::unique_ptr<Icc> owned, Icc* shared, bool results_from_trace,
+              RtlBlock rtl, bool rtl_full_early);
 };
 
 }  // namespace raplas::model::netlist

@@ -33,7 +33,7 @@ struct Tracer {
         return false;
     }
 };
-using Traced = Tracer<bool, std::uint8_t, std::uint32_t, LinkRecord, PsiOut, RtiIssue>;
+using Traced = Tracer<bool, std::uint8_t, std::uint32_t, std::uint64_t, LinkRecord, PsiOut, RtiIssue>;
 
 // (an sc_vector lists its elements as its children, which are its parent's too: each once)
 void trace_tree(sc_core::sc_trace_file* tf, sc_core::sc_object* o, std::set<sc_core::sc_object*>& seen) {
@@ -71,7 +71,8 @@ Netlist::Netlist(const SimConfig& cfg, const MachineState& state, bool results_f
                     cfg.triangle_lag_cycles, period_of(cfg)),
       iccs("icc") {
     iccs.init(cfg.iccs, [&](const char* name, std::size_t k) {
-        return new IccModule(name, state.iccs[k], results_from_trace);
+        return new IccModule(name, state.iccs[k], results_from_trace, cfg.rtl,
+                             cfg.fault == Fault::rtl_full_early && k == cfg.fault_icc);
     });
 
     host.clk(clock);

@@ -167,6 +167,13 @@ TEST_F(BadInputTable, EveryCaseGetsItsExitCodeAndWholeStderr) {
         const toml::table& c = *node.as_table();
         const std::string name = c["input"].value_or(std::string()) + ": " + c["what"].value_or(std::string());
         SCOPED_TRACE(name);
+        // rtl = true (false): the case holds in a build with (without) the RTL
+        // co-simulation, which Verilator gives; another build leaves it out.
+        if (auto rtl = c["rtl"].value<bool>(); rtl && *rtl != bool(RAPLAS_HAVE_RTL)) {
+            std::cout << "(left out in this build: " << name << ")\n";
+            ++i;
+            continue;
+        }
         const fs::path case_dir = dir / ("case" + std::to_string(i++));
         fs::create_directory(case_dir);
         if (const toml::table* files = c["files"].as_table())
