@@ -14,7 +14,7 @@ import subprocess
 import sys
 import tempfile
 
-from testlib import PROVENANCE, finish, json_diff, provenance_diff, report, small_scenes, FOLLOW_WORKLOAD
+from testlib import PROVENANCE, engine_for, finish, json_diff, provenance_diff, report, small_scenes, FOLLOW_WORKLOAD
 
 raplas, root = sys.argv[1], os.path.abspath(sys.argv[2])
 points_per_trace = int(sys.argv[3]) if len(sys.argv) > 3 else 3
@@ -40,7 +40,7 @@ with tempfile.TemporaryDirectory() as tmp:
             for i in range(points_per_trace):
                 cfg = ["--iccs", str(rng.choice([1, 2, 5, 16])), "--fifo", str(rng.choice([1, 3, 10, 100, 1000])),
                        "--set", f"icc.triangle_select={rng.choice(['any', 'both'])}",
-                       "--set", f"sim.mode={rng.choice(['netlist', 'event'])}",
+                       "--set", f"sim.mode={engine_for(name, rng.choice(['netlist', 'event']))}",
                        "--set", f"numerics.format={fmt}"]
                 out = {}
                 for mode in ("compute", "trace"):

@@ -11,7 +11,9 @@ no cost) and overlapped passes. Then the broken variant built beside the RTL
 (sim.fault = rtl_full_early: its full flag one entry early) must be caught:
 the same comparison has to report differing figures.
 
-Arguments: RAPLAS ROOT HAVE_RTL (ON/OFF: whether the build has the RTL).
+Arguments: RAPLAS ROOT HAVE_RTL (ON/OFF: whether the build has the RTL)
+[SCENES: comma-separated small scenes, default builtin,bunny_small; the
+sanitizer build checks the built-in scene only].
 Without the RTL, or without the shared scenes the small bunny needs, it says
 SKIP and exits 77 (ctest: skipped); under CI=true either is a failure."""
 import json
@@ -23,6 +25,7 @@ import tempfile
 from testlib import PROVENANCE, finish, in_ci, json_diff, provenance_diff, report, small_scenes, SKIP_EXIT, FOLLOW_WORKLOAD
 
 raplas, root, have_rtl = sys.argv[1], os.path.abspath(sys.argv[2]), sys.argv[3]
+scenes = (sys.argv[4] if len(sys.argv) > 4 else "builtin,bunny_small").split(",")
 if have_rtl.upper() not in ("ON", "1", "TRUE", "YES"):
     if in_ci():
         print("FAIL: this build has no RTL co-simulation (Verilator was not found), and CI=true needs it")
@@ -49,7 +52,7 @@ BROKEN = [(1, 3, []), (4, 2, [])]
 failures = checked = 0
 with tempfile.TemporaryDirectory() as tmp:
     for name, args in small_scenes(root):
-        if name not in ("builtin", "bunny_small"):
+        if name not in scenes:
             continue
         trace = os.path.join(tmp, name + ".trace")
         subprocess.run([raplas, "trace", "--triangle-select", "any", "--out", trace, "-q"] + args, check=True)

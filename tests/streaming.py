@@ -18,7 +18,7 @@ import subprocess
 import sys
 import tempfile
 
-from testlib import finish, json_diff, small_scenes, FOLLOW_WORKLOAD
+from testlib import engine_for, finish, json_diff, small_scenes, FOLLOW_WORKLOAD
 
 raplas, root = sys.argv[1], os.path.abspath(sys.argv[2])
 points_per_scene = int(sys.argv[3]) if len(sys.argv) > 3 else 6
@@ -60,7 +60,7 @@ with tempfile.TemporaryDirectory() as tmp:
             iccs = rng.choice([2, 3, 5, 16]) if "sim.fault_icc=1" in sets else rng.choice([1, 2, 3, 5, 16])
             args = scene_args + ["--config", "paper", *FOLLOW_WORKLOAD, "--iccs", str(iccs), "--fifo", str(rng.choice([1, 3, 10, 1000]))]
             for s in sets:
-                args += ["--set", s]
+                args += ["--set", "sim.mode=" + engine_for(name, s[9:]) if s.startswith("sim.mode=") else s]
             args += extra
             fault = any("fault" in s for s in sets)
             results = {}
@@ -93,7 +93,7 @@ with tempfile.TemporaryDirectory() as tmp:
             args = ["--trace", trace, "--config", "paper", *FOLLOW_WORKLOAD, "--iccs", str(rng.choice([1, 3, 16])), "--fifo",
                     str(rng.choice([3, 1000]))]
             for x in sets:
-                args += ["--set", x]
+                args += ["--set", "sim.mode=" + engine_for(name, x[9:]) if x.startswith("sim.mode=") else x]
             results = {}
             for label, opts, feed in (("whole", ["--whole-frame"], None), ("streamed", ["--window", "2"], None),
                                       ("piped", ["--window", "3"], data)):
