@@ -27,8 +27,8 @@ ctest --test-dir build --output-on-failure -j "$(nproc)"
 if ((!quick)); then
   # Sanitizer build (docs/FUZZING.md): -O1 -g1 halves its build time;
   # file:line in reports stays. The whole suite runs, the longest seeded grids
-  # on half their points (tests/CMakeLists.txt); the benchmarks, which no test
-  # runs, are not built.
+  # on part of their points (tests/CMakeLists.txt); the benchmarks, which no
+  # test runs, are not built.
   step "ASan + UBSan build and suite"
   cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" \
     -DRAPLAS_SANITIZE=ON -DRAPLAS_BUILD_BENCH=OFF >/dev/null

@@ -28,9 +28,9 @@ using ::testing::HasSubstr;
 class FunctionalFault : public TempDirTest, public ::testing::WithParamInterface<std::string> {};
 
 TEST_P(FunctionalFault, OneWrongRtiAnswerIsCaughtNamedAndExitsOne) {
-    // (the built-in scene at 48x48: nine primary groups, two passes on 4 ICCs)
+    // (the built-in scene at 32x32: four primary groups, one pass on 4 ICCs)
     const std::vector<std::string> sim = {"simulate", "-q", "--config", "paper", "--iccs", "4",
-                                          "--set", "image.width=48", "--set", "image.height=48",
+                                          "--set", "image.width=32", "--set", "image.height=32",
                                           "--set", "sim.mode=" + GetParam()};
     const RunResult good = run(plus(sim, {"--json", "good.json"}));
     ASSERT_EQ(good.code, 0) << good.err;
