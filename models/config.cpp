@@ -66,6 +66,17 @@ ParamSet machine_params() {
                  "when the Triangle Stream Link stops: any_full = any Triangle FIFO full (paper §3.1); "
                  "needed_full = only when an ICC that needs the triangle is full",
                  {"any_full", "needed_full"});
+    p.add_int("link.stall_latency", 0, 0, 1000000,
+              "cycles an ICC's Triangle FIFO hold takes to stop the Triangle Stream Link (a pipelined bus or daisy "
+              "chain): the link stops in cycle c when a FIFO held in cycle c - L, and a FIFO raises its hold at "
+              "depth - L entries so that the L records already on the link still fit (needs link.stall_policy = "
+              "any_full and L < fifo.triangle_depth; docs/MODEL.md §3)");
+    p.add_real("link.stall_latency_per_icc", 0.0, 0.0, 1000.0,
+               "growth of the stall latency with the ICC count: L = link.stall_latency + "
+               "floor(link.stall_latency_per_icc x machine.iccs)");
+    p.add_int("link.resume_occupancy", -1, -1, 100000000,
+              "after a Triangle FIFO's hold stops the link, the hold falls only when that FIFO has drained to this "
+              "occupancy; -1 = as soon as it is below the occupancy that raised it (no hysteresis)");
     p.add_int("link.triangle_lag_cycles", 0, 0, 1000000,
               "cycles the Triangle Stream Link waits at the start of a pass before its first record "
               "(it also waits, as always, for undecided spheres)");
@@ -195,6 +206,33 @@ SimConfig config_from_params(const ParamSet& p) {
     c.icc.planeid_fifo.depth = std::uint32_t(p.get_int("fifo.planeid_depth"));
     if (c.icc.planeid_fifo.depth == 0) c.icc.planeid_fifo.depth = c.icc.triangle_fifo.depth;
     c.icc.selector.policy = p.get_string("link.stall_policy") == "needed_full" ? StallPolicy::needed_full : StallPolicy::any_full;
+    {
+        // The stall latency: L = base + floor(per ICC x ICCs) (the small
+        // epsilon keeps 1/16 x 48 at 3 rather than 2.999...).
+        const double per = p.get_real("link.stall_latency_per_icc");
+        const std::uint64_t L = std::uint64_t(p.get_int("link.stall_latency")) +
+                                std::uint64_t(per * double(c.iccs) * (1 + 1e-12));
+        const std::string key = p.get_int("link.stall_latency") == 0 && per > 0 ? "link.stall_latency_per_icc"
+                                                                               : "link.stall_latency";
+        const std::string what = p.origin(key) + ": a stall latency of " + std::to_string(L) + " cycles";
+        if (L > 0 && c.icc.selector.policy != StallPolicy::any_full)
+            throw InputError(what + " needs link.stall_policy = any_full: under needed_full an ICC stops the link "
+                                    "only for a triangle it needs, which a hold raised cycles earlier cannot know");
+        if (L >= c.icc.triangle_fifo.depth)
+            throw InputError(what + " needs a Triangle FIFO deeper than that (fifo.triangle_depth = " +
+                             std::to_string(c.icc.triangle_fifo.depth) +
+                             "): the FIFO raises its hold at depth - latency entries so that the records still on "
+                             "the link fit; a deeper latency would overflow it");
+        c.icc.selector.stall_latency = std::uint32_t(L);
+        c.icc.selector.resume_occupancy = p.get_int("link.resume_occupancy");
+        const std::int64_t R = c.icc.selector.resume_occupancy;
+        const std::uint64_t at = c.icc.selector.hold_at(c.icc.triangle_fifo.depth);
+        if (R >= 0 && std::uint64_t(R) >= at)
+            throw InputError(p.origin("link.resume_occupancy") + ": link.resume_occupancy = " + std::to_string(R) +
+                             " must be below the occupancy at which a Triangle FIFO stops the link (" +
+                             std::to_string(at) + " = fifo.triangle_depth " + std::to_string(c.icc.triangle_fifo.depth) +
+                             " - stall latency " + std::to_string(L) + ")");
+    }
     c.sphere_record_bytes = std::uint32_t(p.get_int("link.sphere_record_bytes"));
     c.triangle_record_bytes = std::uint32_t(p.get_int("link.triangle_record_bytes"));
     c.icc.output.entry_bytes = std::uint32_t(p.get_int("link.result_bytes"));
@@ -245,6 +283,10 @@ SimConfig config_from_params(const ParamSet& p) {
         if (c.estimate == Estimate::fifo_bound)
             throw InputError(what + " needs a simulation, but sim.estimate = fifo_bound computes the cycles in "
                                     "closed form");
+        if (!c.icc.selector.plain())
+            throw InputError(what + " has the Triangle FIFO's plain hold only (full, in the same cycle): it needs "
+                                    "link.stall_latency = 0, link.stall_latency_per_icc = 0 and "
+                                    "link.resume_occupancy = -1");
     }
     if (c.fault == Fault::rtl_full_early && c.rtl != RtlBlock::triangle_selector)
         throw InputError(p.origin("sim.fault") +

@@ -173,8 +173,25 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     BucketQueue& waiting = wait_queue_;
     waiting.reset(triangle_memory.size(), na);
     std::vector<std::uint32_t> selecting, individuals, full_now, diverged;
-    // ICCs whose Triangle FIFO is full at the start of every cycle up to `second`.
-    std::vector<std::pair<std::uint32_t, std::uint64_t>> full_until;
+    // The Triangle FIFOs' holds on the triangle stream (TriangleSelector::hold):
+    // ICC k's FIFO stops the link in cycles `from` to `until`. A hold is up
+    // at the start of the cycles from the one after the push that raised it
+    // (occupancy hold_at) to the pop that brings the FIFO to resume_at, and
+    // reaches the link stall_latency cycles later (from the pass's first
+    // cycle, for a hold up then). With the plain hold (full, no latency) it
+    // is "full from the next cycle until the Fetcher pops the head". A push
+    // while the hold is up moves its end; a later hold of the same ICC is
+    // another entry, and `hold_of[k]` is the index of its last.
+    struct Hold {
+        std::uint32_t k;
+        std::uint64_t from, until;
+    };
+    std::vector<Hold> holds;
+    const std::uint64_t hold_at = cfg_.icc.selector.hold_at(tri_depth);
+    const std::uint64_t resume_at = cfg_.icc.selector.resume_at(tri_depth);
+    const std::uint64_t stall_latency = cfg_.icc.selector.stall_latency;
+    constexpr std::uint32_t kNoHold = ~std::uint32_t(0);
+    std::vector<std::uint32_t> hold_of(na, kNoHold);
     // Back end of every ICC (EventBack, top.hpp): empty at the start of a
     // pass, or with overlapped passes what the previous pass left, in this
     // pass's cycles.
@@ -189,9 +206,27 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     std::uint64_t prev_done = 0;
     for (const Back& b : back) prev_done = std::max(prev_done, b.done);
     std::uint64_t max_done = prev_done;
+    // A hold raised by ICC k's push in cycle c (its FIFO then holding the
+    // entries that pop in `starts`), or moved on by it.
+    auto after_push = [&](std::uint32_t k, std::uint64_t c, const RingQueue& starts) {
+        const std::uint64_t size = starts.size();
+        const std::uint32_t h = hold_of[k];
+        const bool up = h != kNoHold && holds[h].until >= c + stall_latency;  // (up at the start of cycle c)
+        if (size < hold_at && !(up && size > resume_at)) return;
+        const std::uint64_t until = starts[std::size_t(size - resume_at - 1)];
+        const std::uint64_t end = until == kNever ? kNever : until + stall_latency;
+        if (up) {
+            holds[h].until = end;
+        } else {
+            hold_of[k] = std::uint32_t(holds.size());
+            holds.push_back({k, c + 1 + stall_latency, end});
+        }
+    };
     for (std::uint32_t k = 0; k < na; ++k)
-        if (back[k].starts.size() >= tri_depth) {  // full of the previous pass's triangles
-            full_until.push_back({k, back[k].starts.front()});
+        if (back[k].starts.size() >= hold_at) {  // held by the previous pass's triangles
+            const std::uint64_t until = back[k].starts[std::size_t(back[k].starts.size() - resume_at - 1)];
+            hold_of[k] = std::uint32_t(holds.size());
+            holds.push_back({k, 0, until == kNever ? kNever : until + stall_latency});
             is_full[k] = 1;
             full_now.push_back(k);
         }
@@ -265,7 +300,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     auto note_occupancy = [&](Tally& t, std::size_t occupancy) {
         t.max_occupancy = std::max(t.max_occupancy, std::uint32_t(occupancy));
     };
-    const bool may_coast = keep_pairless && rdf_empty <= 1 && tri_depth >= 2 && cfg_.fault == Fault::none;
+    const bool may_coast = keep_pairless && rdf_empty <= 1 && hold_at >= 2 && cfg_.fault == Fault::none;
     // Coasting ICC k has taken every triangle below `upto` (the link's position).
     auto catch_up = [&](std::uint32_t k, std::uint32_t upto) {
         Coast& co = coast[k];
@@ -551,7 +586,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         if (may_stick && icc.rti.stuck()) {  // fault injection: the Fetcher never pops this FIFO again
             b.starts.push_back(kNever);
             note_occupancy(tl, b.starts.size());
-            if (b.starts.size() >= tri_depth) full_until.push_back({k, kNever});
+            after_push(k, c, b.starts);
             max_done = kNever;
             return false;
         }
@@ -561,9 +596,10 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         max_done = std::max(max_done, b.done);
         b.starts.push_back(start);
         note_occupancy(tl, b.starts.size());
-        // Full from the next cycle until the Fetcher pops the head (a full
-        // FIFO takes no push, so nothing else can change that).
-        if (b.starts.size() >= tri_depth) full_until.push_back({k, b.starts.front()});
+        // Held from the next cycle until the Fetcher pops down to resume_at
+        // (with the plain hold, a full FIFO takes no push, so nothing else
+        // can change that).
+        after_push(k, c, b.starts);
         // The RTI's tests, all at once: the nearest hit does not depend on their
         // order. (Made when the group was loaded, unless the ICC answers at
         // selection: Icc::answer_at_load.)
@@ -578,6 +614,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         // Cycles the Fetcher is still busy with older triangles, and the FIFO's occupancy.
         const std::uint64_t backlog = start - c - 1, occupancy = b.starts.size();
         if ((backlog || occupancy > 1) && rdf_empty != 1) return false;
+        if (hold_of[k] != kNoHold && holds[hold_of[k]].until >= c + 1 + stall_latency) return false;  // held
         // The run of contiguous pair-less spheres in the FIFOs from here, and
         // whether the entry behind it is queued.
         const Fifo<FirstTriEntry>& f = icc.first_tri_fifo;
@@ -593,7 +630,8 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         // backlog) entries (older ones pop no later than this one, and the
         // Fetcher takes one of the coast's each cycle once free): it must not
         // fill the FIFO or raise its largest occupancy so far.
-        const std::uint64_t most = Fifo<TriWork>::quiet_limit(tl.max_occupancy, tri_depth);
+        // (nor raise its hold)
+        const std::uint64_t most = std::min(Fifo<TriWork>::quiet_limit(tl.max_occupancy, tri_depth), hold_at - 1);
         auto quiet = [&](std::uint32_t stop) { return occupancy + std::min<std::uint64_t>(stop - tri - 1, backlog) <= most; };
         if (i < f.size() && end >= tri + 2 && quiet(end)) {  // the whole run, then the entry behind it
             coast[k] = Coast{tri + 1, tri + 1, end, f.at(i).first, start, true};
@@ -693,16 +731,22 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
             const bool t_flows = full_now.empty() && selecting.empty();
             bool t_held = false;
             std::uint64_t d = 0;
+            // The first cycle a hold reaches the link, or leaves it after
+            // (`popped`): the set of holds is the same up to then.
+            std::uint64_t popped = kNever, raised = kNever;
+            for (const Hold& h : holds) {
+                if (h.from > cycle) raised = std::min(raised, h.from);
+                else popped = std::min(popped, h.until);
+            }
             if (t_flows) {
                 d = triangle_link.end() - tp;
                 if (!waiting.empty()) d = std::min<std::uint64_t>(d, waiting.min_key() - tp);
+                if (raised != kNever) d = std::min<std::uint64_t>(d, raised - cycle);
             } else if (!full_now.empty()) {
                 for (std::uint32_t k : full_now) t_held = t_held || tri_blocker(k);
-                std::uint64_t popped = ~std::uint64_t(0);
-                for (const auto& f : full_until) popped = std::min(popped, f.second);
                 // (a FIFO never popped, under fault injection, is left to the
                 // cycle-by-cycle steps and their watchdog)
-                if (t_held && popped > cycle && popped != kNever) d = popped - cycle;
+                if (t_held && popped > cycle && popped != kNever) d = std::min(popped, raised) - cycle;
             }
             if (s_steady) {
                 d = std::min<std::uint64_t>(d, sphere_link.end() - sp);
@@ -746,8 +790,15 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                     triangle_link.sent_many(d);
                 } else {
                     triangle_link.stalled(d);
+                    std::uint32_t held = 0, by = 0;
                     for (std::uint32_t k : full_now)
-                        if (tri_blocker(k)) active[k]->triangle_selector.note_blocked_full(active[k]->triangle_fifo, d);
+                        if (tri_blocker(k)) {
+                            active[k]->triangle_selector.note_blocked_full(active[k]->triangle_fifo, d);
+                            ++held;
+                            by = k;
+                        }
+                    triangle_link.held(held, d);
+                    if (held == 1) active[by]->triangle_selector.note_alone(d);
                 }
                 cycle += d;
                 since_sync_ += d;
@@ -785,9 +836,15 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 if (active[k]->decoder.decided() <= ts) active[k]->triangle_selector.add_blocked_undecided(1);
             for (std::uint32_t k : cruisers)
                 if (cruise_decided(k, cycle) <= ts) active[k]->triangle_selector.add_blocked_undecided(1);
+            std::uint32_t held = 0, by = 0;
             for (std::uint32_t k : full_now)
-                if (decided_of(k, cycle) > ts && tri_blocker(k))
+                if (decided_of(k, cycle) > ts && tri_blocker(k)) {
                     active[k]->triangle_selector.note_blocked_full(active[k]->triangle_fifo);
+                    ++held;
+                    by = k;
+                }
+            triangle_link.held(held);
+            if (held == 1) active[by]->triangle_selector.note_alone();
         }
         std::int64_t s = -1, t = -1;
         broadcast(s_has, s_ok, t_has, t_ok, s, t);
@@ -953,14 +1010,20 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         // ---- Triangle FIFOs full at the start of the next cycle ----------
         for (std::uint32_t k : full_now) is_full[k] = 0;
         full_now.clear();
-        for (std::size_t i = 0; i < full_until.size();) {
-            if (full_until[i].second <= cycle) {  // head popped by the end of this cycle
-                full_until[i] = full_until.back();
-                full_until.pop_back();
+        for (std::size_t i = 0; i < holds.size();) {
+            if (holds[i].until <= cycle) {  // fallen by the end of this cycle
+                if (hold_of[holds[i].k] == i) hold_of[holds[i].k] = kNoHold;
+                if (i + 1 != holds.size()) {
+                    holds[i] = holds.back();
+                    if (hold_of[holds[i].k] == holds.size() - 1) hold_of[holds[i].k] = std::uint32_t(i);
+                }
+                holds.pop_back();
                 continue;
             }
-            is_full[full_until[i].first] = 1;
-            full_now.push_back(full_until[i].first);
+            if (holds[i].from <= cycle + 1 && !is_full[holds[i].k]) {
+                is_full[holds[i].k] = 1;
+                full_now.push_back(holds[i].k);
+            }
             ++i;
         }
         std::sort(full_now.begin(), full_now.end());

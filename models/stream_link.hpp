@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace raplas::model {
@@ -20,7 +21,23 @@ public:
         std::uint64_t stall_cycles = 0;   // cycles with a record to send that was held back
         std::uint64_t idle_cycles = 0;    // cycles of a pass with nothing left to send
         std::uint64_t bytes = 0;
+        // The stall anatomy (Triangle Stream Link): stalled cycles by how many
+        // ICCs' FIFOs held the link in them, in bins 1, 2, 3-4, 5-8, ...,
+        // 2049-4096 (held_bin); stalled cycles held by none (only undecided
+        // spheres held it) are stall_cycles less their sum.
+        static constexpr std::size_t kHeldBins = 13;
+        std::uint64_t held_by[kHeldBins] = {};
     };
+    // The bin of a stalled cycle held by m >= 1 ICCs' FIFOs, and its name ("1", "2", "3-4", ...).
+    static std::size_t held_bin(std::uint64_t m) {
+        std::size_t b = 0;  // (the bit width of m - 1)
+        for (std::uint64_t v = m ? m - 1 : 0; v; v >>= 1) ++b;
+        return b < Stats::kHeldBins ? b : Stats::kHeldBins - 1;
+    }
+    static std::string held_bin_name(std::size_t b) {
+        if (b < 2) return std::to_string(b + 1);
+        return std::to_string((std::uint64_t(1) << (b - 1)) + 1) + "-" + std::to_string(std::uint64_t(1) << b);
+    }
 
     explicit StreamLink(const Params& p) : params_(p) {}
 
@@ -38,6 +55,10 @@ public:
     }
     void stalled(std::uint64_t cycles = 1) { stats_.stall_cycles += cycles; }
     void idle(std::uint64_t cycles = 1) { stats_.idle_cycles += cycles; }
+    // `cycles` stalled cycles in which m ICCs' FIFOs held it (nothing for m = 0).
+    void held(std::uint64_t m, std::uint64_t cycles = 1) {
+        if (m) stats_.held_by[held_bin(m)] += cycles;
+    }
     // Bulk advance used by the event-skipping driver: n records sent back to back.
     void sent_many(std::uint64_t n) {
         pos_ += n;

@@ -24,12 +24,29 @@ class TriangleSelector {
 public:
     struct Params {
         StallPolicy policy = StallPolicy::any_full;
+        // link.stall_latency (+ _per_icc x ICCs): cycles its hold takes to
+        // stop the Triangle Stream Link. The hold rises at depth - latency
+        // entries, so that the records already on the link still fit.
+        std::uint32_t stall_latency = 0;
+        // link.resume_occupancy: once risen, the hold falls only when the
+        // FIFO has drained to this occupancy; -1 = as soon as it is below the
+        // rising threshold (no hysteresis).
+        std::int64_t resume_occupancy = -1;
+        // Occupancy at the start of a cycle from which the hold is up, and
+        // the one at or below which it falls, for a FIFO of `depth`.
+        std::uint64_t hold_at(std::uint32_t depth) const { return std::uint64_t(depth) - stall_latency; }
+        std::uint64_t resume_at(std::uint32_t depth) const {
+            return resume_occupancy < 0 ? hold_at(depth) - 1 : std::uint64_t(resume_occupancy);
+        }
+        // Whether the hold of a stopped link is anything but "the FIFO is full" in the same cycle.
+        bool plain() const { return stall_latency == 0 && resume_occupancy < 0; }
     };
     struct Stats {
         std::uint64_t selected = 0;
         std::uint64_t discarded = 0;
         std::uint64_t blocked_fifo_full = 0;  // cycles this ICC stopped the broadcast: Triangle FIFO full
         std::uint64_t blocked_undecided = 0;  // ... its sphere not decided yet
+        std::uint64_t blocked_alone = 0;      // of blocked_fifo_full, cycles no other ICC's FIFO held the link
     };
     explicit TriangleSelector(const Params& p) : params_(p) {}
 
@@ -38,14 +55,26 @@ public:
     static bool wants(std::uint32_t sphere, const FirstIds& first_ids) {
         return !first_ids.empty() && first_ids.front().sphere == sphere;
     }
-    // Can this ICC take triangle `tri` of sphere `sphere` this cycle?
+    // Can this ICC take triangle `tri` of sphere `sphere` this cycle? (Its
+    // Triangle FIFO's hold: full, with Params::plain.)
     template <class FirstIds, class TriFifo>
     bool ready(bool active, std::uint32_t sphere, std::uint32_t decided, const FirstIds& first_ids,
                const TriFifo& tri_fifo) const {
+        return ready_held(active, sphere, decided, first_ids, tri_fifo.full());
+    }
+    // The same with the hold given: the FIFO's, as the stall pipeline delivers it.
+    template <class FirstIds>
+    bool ready_held(bool active, std::uint32_t sphere, std::uint32_t decided, const FirstIds& first_ids,
+                    bool held) const {
         if (!active) return true;
         if (decided <= sphere) return false;
-        if (!tri_fifo.full()) return true;
+        if (!held) return true;
         return params_.policy == StallPolicy::needed_full && !wants(sphere, first_ids);
+    }
+    // The hold at the start of a cycle with `occupancy` entries, `before` the
+    // hold at the start of the cycle before (false at a pass's first cycle).
+    bool hold(std::uint64_t occupancy, std::uint32_t depth, bool before) const {
+        return occupancy >= params_.hold_at(depth) || (before && occupancy > params_.resume_at(depth));
     }
     template <class TriFifo>
     void note_blocked(std::uint32_t sphere, std::uint32_t decided, TriFifo& tri_fifo) {
@@ -70,6 +99,8 @@ public:
         }
     }
     void add_blocked_undecided(std::uint64_t cycles) { stats_.blocked_undecided += cycles; }
+    // `cycles` of its FIFO-full blocks in which it was the only ICC whose FIFO held the link.
+    void note_alone(std::uint64_t cycles = 1) { stats_.blocked_alone += cycles; }
     // Event-driven simulation: triangle `tri` of the head sphere taken; pops
     // the head entry after its last triangle. Returns its plane masks. (The
     // caller counts it: add_selected.)

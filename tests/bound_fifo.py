@@ -1,13 +1,14 @@
 #!/usr/bin/env python3
 """sim.estimate = fifo_bound: over a seeded grid of scenes, ICC counts, FIFO
 depths, per-pass host overheads, PSI pipe counts and stages, RTI pipe counts and stages, stall
-policies, triangle-stream lags, both Triangle Selector readings, the Ray
+policies, stall latencies and resume occupancies, triangle-stream lags, both Triangle Selector readings, the Ray
 Data Fetcher's cycles on a triangle with no pair and overlapped passes,
   1. every pass's bound is at most the exact pass's cycles (with overlapped
      passes: every pass ends no later, counted from the start of the run);
-  2. it equals them when no Triangle or PlaneID FIFO filled in the exact run
-     (max occupancy below the depth in every ICC), and always when both FIFOs
-     are deeper than the scene has triangles and spheres;
+  2. it equals them when no Triangle FIFO held the link and no PlaneID FIFO
+     filled in the exact run (max occupancy below the depth, less the stall
+     latency for a Triangle FIFO, in every ICC), and always when both FIFOs
+     are deeper than two passes' triangles and spheres;
   3. the JSON says it is a lower bound and that nothing was checked, and the
      CSV's estimate column names the mode."""
 import itertools
@@ -49,11 +50,15 @@ with tempfile.TemporaryDirectory() as tmp:
         subprocess.run([raplas, "trace", "--triangle-select", "any", "--out", trace, "-q"] + args, check=True)
         for i in range(points_per_scene):
             fifo = rng.choice([1, 2, 10, 100, 1000])
+            policy = rng.choice(['any_full', 'needed_full'])
+            latency = rng.choice([0, 2]) if policy == "any_full" and fifo > 2 else 0
+            resume = rng.choice([-1, 0]) if fifo - latency > 1 else -1
             cfg = ["--iccs", str(rng.choice([1, 2, 5, 16])), "--fifo", str(fifo),
                    "--set", f"fifo.planeid_depth={rng.choice([1, 4, 1000])}",
                    "--set", f"fifo.sphere_depth={rng.choice([1, 10, 1000])}",
                    "--set", f"host.pass_overhead_cycles={rng.choice([0, 0, 5])}",
-                   "--set", f"link.stall_policy={rng.choice(['any_full', 'needed_full'])}",
+                   "--set", f"link.stall_policy={policy}",
+                   "--set", f"link.stall_latency={latency}", "--set", f"link.resume_occupancy={resume}",
                    "--set", f"icc.psi_pipes={rng.choice([32, 8, 5])}",
                    "--set", f"icc.psi_stages={rng.choice([10, 3])}",
                    "--set", f"icc.rti_pipes={rng.choice([1, 2, 4])}",
@@ -77,7 +82,8 @@ with tempfile.TemporaryDirectory() as tmp:
                 check(all(x <= y for x, y in zip(b, e)), f"{what}: bound above the exact cycles of a pass")
             check(bound["total_cycles"] == sum(b) and bound["total_cycles"] <= exact["total_cycles"],
                   f"{what}: total {bound['total_cycles']} against exact {exact['total_cycles']}")
-            filled = any(c["triangle_fifo"]["max_occupancy"] >= c["triangle_fifo"]["depth"] or
+            # (a Triangle FIFO holds the link from depth - stall latency entries on)
+            filled = any(c["triangle_fifo"]["max_occupancy"] >= c["triangle_fifo"]["depth"] - latency or
                          c["planeid_fifo"]["max_occupancy"] >= c["planeid_fifo"]["depth"]
                          for c in exact["iccs_detail"])
             if not filled:
@@ -86,7 +92,8 @@ with tempfile.TemporaryDirectory() as tmp:
             check(est.get("mode") == "fifo_bound" and est.get("lower_bound") is True, f"{what}: estimate block")
             check(not bound["functional_checked"], f"{what}: nothing is checked in fifo_bound")
             # Deep FIFOs: the exact run must equal the bound pass for pass.
-            deep = max(exact["triangles"], exact["spheres"]) + 1
+            # (two passes' worth: with overlapped passes a FIFO holds the previous pass's triangles too)
+            deep = 2 * max(exact["triangles"], exact["spheres"]) + 1
             deep_cfg = cfg[:3] + [str(deep)] + cfg[4:] + ["--set", f"fifo.planeid_depth={deep}"]  # --fifo sets the Triangle FIFO
             check(run(tmp, trace, deep_cfg)["pass_cycles"] == b, f"{what}: deep FIFOs, exact != bound")
             print(f"{what}: exact {exact['total_cycles']}, bound {bound['total_cycles']}"

@@ -5,7 +5,7 @@ except wall-clock ones (every key present in either JSON, and the provenance
 but for sim.mode), over a seeded grid of scenes, ICC counts, Triangle, Sphere
 and PlaneID FIFO depths, per-pass host overheads, SystemC sync intervals, stall
 policies, PSI pipe counts and stages, RTI pipe counts and stages,
-triangle-stream lags, both Triangle Selector readings, the Ray Data Fetcher's
+triangle-stream lags, stall latencies and resume occupancies, both Triangle Selector readings, the Ray Data Fetcher's
 cycles on a triangle with no pair, overlapped passes, both functional modes
 and the group orders, and at two points of the `paper` machine's own FIFO depths. Each
 scene's trace carries the pair-less spheres (it serves both readings); a trace
@@ -63,12 +63,20 @@ with tempfile.TemporaryDirectory() as tmp:
             failures += report(name, cfg, d, out[reference]["total_cycles"])
 
         for i in range(points[name]):
-            check(["--iccs", str(rng.choice([1, 2, 3, 5, 16])), "--fifo", str(rng.choice([1, 2, 3, 10, 100, 1000])),
+            fifo = rng.choice([1, 2, 3, 10, 100, 1000])
+            policy = rng.choice(['any_full', 'needed_full'])
+            # the stall latency (any_full only, below the depth) and the resume occupancy (below depth - latency)
+            latency = rng.choice([0, 0, 1, 3]) if policy == "any_full" else 0
+            latency = latency if latency < fifo else 0
+            resume = rng.choice([-1, -1, 0, (fifo - latency) // 2])
+            resume = resume if resume < fifo - latency - 1 else -1
+            check(["--iccs", str(rng.choice([1, 2, 3, 5, 16])), "--fifo", str(fifo),
+                   "--set", f"link.stall_latency={latency}", "--set", f"link.resume_occupancy={resume}",
                    "--set", f"fifo.planeid_depth={rng.choice([1, 2, 16])}",
                    "--set", f"fifo.sphere_depth={rng.choice([1, 3, 1000])}",
                    "--set", f"host.pass_overhead_cycles={rng.choice([0, 0, 5])}",
                    "--set", f"sim.sync_cycles={rng.choice([4096, 333])}",
-                   "--set", f"link.stall_policy={rng.choice(['any_full', 'needed_full'])}",
+                   "--set", f"link.stall_policy={policy}",
                    "--set", f"icc.psi_pipes={rng.choice([32, 32, 8, 5])}",
                    "--set", f"icc.psi_stages={rng.choice([10, 10, 3])}",
                    "--set", f"icc.rti_pipes={rng.choice([1, 1, 2, 4])}",

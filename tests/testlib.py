@@ -121,6 +121,24 @@ def report(name, cfg, differences, cycles):
     return False
 
 
+class Checks:
+    """A test script's checks: `check(ok, what)` prints an ok/FAIL line and
+    counts the failures; `check.finish()` exits as finish() does."""
+
+    def __init__(self):
+        self.failures = self.count = 0
+
+    def __call__(self, ok, what):
+        self.count += 1
+        self.failures += not ok
+        print(("ok   " if ok else "FAIL ") + what)
+        return ok
+
+    def finish(self):
+        print(f"{self.count - self.failures}/{self.count} checks passed")
+        finish(self.failures)
+
+
 def finish(failures):
     """Exit: 1 on failures, else 77 (skipped) when shared scenes were missing, else 0."""
     sys.exit(1 if failures else SKIP_EXIT if _shared_missing else 0)

@@ -1,3 +1,4 @@
+#define SC_INCLUDE_DYNAMIC_PROCESSES  // (sc_spawn, for the optional ports)
 #include "icc_module.hpp"
 
 namespace raplas::model::netlist {
@@ -46,6 +47,8 @@ IccModule::IccModule(sc_core::sc_module_name n, std::unique_ptr<Icc> owned, Icc*
       triangle_fifo_status("triangle_fifo_status"),
       host("host"),
       results("results"),
+      triangle_hold("triangle_hold"),
+      triangle_holders("triangle_holders"),
       active("active"),
       buf("buf"),
       psi_out("psi_out"),
@@ -56,6 +59,8 @@ IccModule::IccModule(sc_core::sc_module_name n, std::unique_ptr<Icc> owned, Icc*
       rti_ready("rti_ready"),
       triangle_pop(rtl != RtlBlock::none ? std::make_unique<sc_core::sc_signal<std::uint32_t>>("triangle_pop")
                                          : nullptr),
+      fifo_hold("fifo_hold"),
+      holders("holders"),
       sphere_fifo("sphere_fifo", icc_.sphere_fifo),
       planeid_fifo("planeid_fifo", icc_.planeid_fifo),
       first_tri_fifo("first_tri_fifo", icc_.first_tri_fifo),
@@ -65,7 +70,8 @@ IccModule::IccModule(sc_core::sc_module_name n, std::unique_ptr<Icc> owned, Icc*
       psi("psi", icc_.psi),
       decoder("decoder", icc_.decoder),
       triangle_selector(rtl == RtlBlock::none
-                            ? std::make_unique<TriangleSelectorModule>("triangle_selector", icc_.triangle_selector)
+                            ? std::make_unique<TriangleSelectorModule>("triangle_selector", icc_.triangle_selector,
+                                                                     icc_.triangle_fifo.depth())
                             : nullptr),
       triangle_selector_rtl(make_triangle_selector_rtl(icc_, rtl, rtl_full_early)),
       ray_data_fetcher("ray_data_fetcher", icc_.ray_data_fetcher, icc_.params().rti.pipes),
@@ -115,6 +121,8 @@ IccModule::IccModule(sc_core::sc_module_name n, std::unique_ptr<Icc> owned, Icc*
         ts.first_tri(first_tri_fifo);
         ts.ready(triangle_ready);
         ts.planeid_pop(planeid_pop);
+        ts.fifo_hold(fifo_hold);
+        ts.holders(holders);
     };
     if (triangle_selector) {
         bind_selector(*triangle_selector);
@@ -145,6 +153,22 @@ IccModule::IccModule(sc_core::sc_module_name n, std::unique_ptr<Icc> owned, Icc*
     rti.busy(rti_busy);
 
     output_link.memory(min_distance_memory.read);
+}
+
+void IccModule::end_of_elaboration() {
+    if (triangle_hold.size()) {
+        sc_core::sc_spawn_options o;
+        o.spawn_method();
+        o.set_sensitivity(&fifo_hold.value_changed_event());
+        sc_core::sc_spawn([this] { triangle_hold->write(fifo_hold.read()); }, sc_core::sc_gen_unique_name("hold_out"), &o);
+    }
+    if (triangle_holders.size()) {
+        sc_core::sc_spawn_options o;
+        o.spawn_method();
+        o.set_sensitivity(&triangle_holders->value_changed_event());
+        sc_core::sc_spawn([this] { holders.write(triangle_holders->read()); }, sc_core::sc_gen_unique_name("holders_in"),
+                          &o);
+    }
 }
 
 void IccModule::start_pass(const TraceGroup* g, std::uint8_t b, bool overlap) {

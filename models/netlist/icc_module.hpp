@@ -67,6 +67,12 @@ public:
     sc_core::sc_export<FifoStatusIf<TriWork>> triangle_fifo_status;
     sc_core::sc_export<IccHostIf> host;
     sc_core::sc_export<OutputLinkIf> results;  // the Output Link's
+    // The stall anatomy, optional (an ICC whose testbench leaves them unbound
+    // counts no cycles in which its FIFO alone held the link): its Triangle
+    // FIFO holds the Triangle Stream Link this cycle (C, out), and how many
+    // ICCs' FIFOs do (C, in, from the link).
+    sc_core::sc_port<sc_core::sc_signal_inout_if<bool>, 1, sc_core::SC_ZERO_OR_MORE_BOUND> triangle_hold;
+    sc_core::sc_port<sc_core::sc_signal_in_if<std::uint32_t>, 1, sc_core::SC_ZERO_OR_MORE_BOUND> triangle_holders;
 
     // The netlist's: the blocks step `icc`, which the caller owns (Top: the
     // event engine steps the same objects); with `results_from_trace` the
@@ -97,6 +103,8 @@ public:
     sc_core::sc_signal<RtiIssue> rti_issue;    // C
     sc_core::sc_signal<bool> rti_ready;        // R
     std::unique_ptr<sc_core::sc_signal<std::uint32_t>> triangle_pop;  // C (sim.rtl = triangle_selector)
+    sc_core::sc_signal<bool> fifo_hold;        // C: triangle_hold, inside
+    sc_core::sc_signal<std::uint32_t> holders; // C: triangle_holders, inside
 
     // FIFOs (the Triangle FIFO's channel only with the C++ Triangle Selector).
     SphereFifoChannel sphere_fifo;
@@ -117,6 +125,8 @@ public:
     OutputLinkModule output_link;
 
 private:
+    // Joins the optional anatomy ports to the wires inside, when bound.
+    void end_of_elaboration() override;
     IccModule(sc_core::sc_module_name n, std::unique_ptr<Icc> owned, Icc* shared, bool results_from_trace,
               RtlBlock rtl, bool rtl_full_early);
 };

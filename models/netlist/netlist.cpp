@@ -61,6 +61,9 @@ Netlist::Netlist(const SimConfig& cfg, const MachineState& state, bool results_f
       triangle_done("triangle_done"),
       sphere_ready("sphere_ready", cfg.iccs),
       triangle_ready("triangle_ready", cfg.iccs),
+      triangle_hold("triangle_hold", cfg.iccs),
+      triangle_holders("triangle_holders"),
+      sphere_holders("sphere_holders"),
       fetcher_busy("fetcher_busy", cfg.iccs),
       rti_busy("rti_busy", cfg.iccs),
       host("host", state.host),
@@ -68,7 +71,7 @@ Netlist::Netlist(const SimConfig& cfg, const MachineState& state, bool results_f
       triangle_memory("triangle_memory", state.triangle_memory, cfg.triangle_record_bytes),
       sphere_link("sphere_stream_link", state.sphere_link, cfg.iccs, state.sphere_memory.size(), 0, period_of(cfg)),
       triangle_link("triangle_stream_link", state.triangle_link, cfg.iccs, state.triangle_memory.size(),
-                    cfg.triangle_lag_cycles, period_of(cfg)),
+                    cfg.triangle_lag_cycles, period_of(cfg), true),
       iccs("icc") {
     iccs.init(cfg.iccs, [&](const char* name, std::size_t k) {
         return new IccModule(name, state.iccs[k], results_from_trace, cfg.rtl,
@@ -92,6 +95,7 @@ Netlist::Netlist(const SimConfig& cfg, const MachineState& state, bool results_f
     sphere_link.stall(sphere_stall);
     sphere_link.more(sphere_more);
     sphere_link.done(sphere_done);
+    sphere_link.holders(sphere_holders);
     triangle_link.clk(clock);
     triangle_link.pass(pass);
     triangle_link.record(triangle_record);
@@ -99,6 +103,7 @@ Netlist::Netlist(const SimConfig& cfg, const MachineState& state, bool results_f
     triangle_link.stall(triangle_stall);
     triangle_link.more(triangle_more);
     triangle_link.done(triangle_done);
+    triangle_link.holders(triangle_holders);
 
     for (std::size_t k = 0; k < iccs.size(); ++k) {
         IccModule& c = iccs[k];
@@ -113,6 +118,9 @@ Netlist::Netlist(const SimConfig& cfg, const MachineState& state, bool results_f
         c.triangle_stall(triangle_stall);
         c.sphere_ready(sphere_ready[k]);
         c.triangle_ready(triangle_ready[k]);
+        c.triangle_hold(triangle_hold[k]);
+        c.triangle_holders(triangle_holders);
+        triangle_link.holds[k](triangle_hold[k]);
         c.fetcher_busy(fetcher_busy[k]);
         c.rti_busy(rti_busy[k]);
         sphere_link.ready[k](sphere_ready[k]);

@@ -66,6 +66,8 @@ public:
     sc_core::sc_signal<bool> sphere_valid, sphere_stall, sphere_more, sphere_done;
     sc_core::sc_signal<bool> triangle_valid, triangle_stall, triangle_more, triangle_done;
     sc_core::sc_vector<sc_core::sc_signal<bool>> sphere_ready, triangle_ready;
+    sc_core::sc_vector<sc_core::sc_signal<bool>> triangle_hold;           // the stall anatomy's wires
+    sc_core::sc_signal<std::uint32_t> triangle_holders, sphere_holders;  // (the sphere link's: unused)
     sc_core::sc_vector<sc_core::sc_signal<BufMask>> fetcher_busy, rti_busy;
 
     HostModule host;

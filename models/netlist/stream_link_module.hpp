@@ -7,6 +7,9 @@
 // that settles in delta cycles. At the clock edge the link counts the cycle
 // (sent, stalled or idle, in the StreamLink it shares with the other
 // engines) and, after a send, reads the next record.
+// The Triangle Stream Link also takes every ICC's `hold` wire (its Triangle
+// FIFO holds the link) and drives `holders`, their count, with which it and
+// the ICCs count the stall anatomy (StreamLink::Stats::held_by).
 #pragma once
 
 #include <systemc>
@@ -42,6 +45,8 @@ public:
     sc_core::sc_out<bool> stall;                     // offered and held back
     sc_core::sc_out<bool> more;                      // records left after this cycle's
     sc_core::sc_out<bool> done;                      // every record of the pass sent (registered)
+    sc_core::sc_vector<sc_core::sc_in<bool>> holds;  // per ICC (with `anatomy`): its FIFO holds the link
+    sc_core::sc_out<std::uint32_t> holders;          // how many do (C)
     tlm_utils::simple_initiator_socket<StreamLinkModule> memory;
 
     // Called when its memory answers a read with an error response (the
@@ -52,9 +57,10 @@ public:
 
     SC_HAS_PROCESS(StreamLinkModule);
     // `core`: the link's position and statistics; `records` per pass;
-    // `lag`: cycles before its first record (link.triangle_lag_cycles).
+    // `lag`: cycles before its first record (link.triangle_lag_cycles);
+    // `anatomy`: it takes the ICCs' hold wires.
     StreamLinkModule(sc_core::sc_module_name n, StreamLink& core, std::size_t iccs, std::uint64_t records,
-                     std::uint64_t lag, const sc_core::sc_time& period)
+                     std::uint64_t lag, const sc_core::sc_time& period, bool anatomy = false)
         : sc_core::sc_module(n),
           clk("clk"),
           pass("pass"),
@@ -64,6 +70,8 @@ public:
           stall("stall"),
           more("more"),
           done("done"),
+          holds("holds", anatomy ? iccs : 0),
+          holders("holders"),
           memory("memory"),
           core_(core),
           records_(records),
@@ -72,6 +80,7 @@ public:
         SC_METHOD(settle);
         sensitive << record << pass;
         for (auto& r : ready) sensitive << r;
+        for (auto& h : holds) sensitive << h;
         dont_initialize();
         SC_METHOD(tick);
         sensitive << clk.pos() << pass;
@@ -89,6 +98,9 @@ private:
         valid.write(all);
         stall.write(r.present && !all);
         more.write(core_.position() + (all ? 1 : 0) < core_.end());
+        std::uint32_t n = 0;
+        for (auto& h : holds) n += h.read();
+        holders.write(n);
     }
     void tick() {
         if (pass.event()) {  // a new pass: record 0
@@ -104,6 +116,7 @@ private:
             core_.sent();
         } else if (record.read().present) {
             core_.stalled();
+            core_.held(holders.read());
         } else if (!core_.has_record()) {
             core_.idle();  // (before the lag, or while its memory answers, it is neither)
         }

@@ -45,7 +45,7 @@ enum class Combine { sum, max };
 
 // Every statistic of an ICC, by name (a new statistic must be added here: the
 // size check below fails until it is).
-static_assert(sizeof(model::IccSnapshot) == 40 * sizeof(std::uint64_t),
+static_assert(sizeof(model::IccSnapshot) == 41 * sizeof(std::uint64_t),
               "IccSnapshot changed: list its new statistics in visit_icc");
 template <class S, class F>
 void visit_icc(S& s, F&& f) {
@@ -76,6 +76,7 @@ void visit_icc(S& s, F&& f) {
     f("triangle_selector.discarded", s.triangle_selector.discarded, Combine::sum);
     f("triangle_selector.blocked_fifo_full", s.triangle_selector.blocked_fifo_full, Combine::sum);
     f("triangle_selector.blocked_undecided", s.triangle_selector.blocked_undecided, Combine::sum);
+    f("triangle_selector.blocked_alone", s.triangle_selector.blocked_alone, Combine::sum);
     f("ray_data_fetcher.triangles", s.ray_data_fetcher.triangles, Combine::sum);
     f("ray_data_fetcher.empty_triangles", s.ray_data_fetcher.empty_triangles, Combine::sum);
     // Each shard's are its ICC's pass cycles less its busy cycles, and a
@@ -96,6 +97,8 @@ void visit_link(L& l, F&& f) {
     f("stall_cycles", l.stall_cycles, Combine::sum);
     f("idle_cycles", l.idle_cycles, Combine::sum);
     f("bytes", l.bytes, Combine::sum);
+    for (std::size_t b = 0; b < model::StreamLink::Stats::kHeldBins; ++b)
+        f(("held_by_" + model::StreamLink::held_bin_name(b)).c_str(), l.held_by[b], Combine::sum);
 }
 
 json hit_json(const Hit& h) { return {{"triangle", h.tri}, {"t", h.t}}; }

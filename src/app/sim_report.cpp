@@ -264,6 +264,29 @@ nlohmann::json sim_json(const SimReportInput& in) {
     j["links"] = {{"sphere", link(r.sphere_link, c.sphere_record_bytes)},
                   {"triangle", link(r.triangle_link, c.triangle_record_bytes)},
                   {"output", {{"bytes", out_bytes}}}};
+    {
+        // The stall anatomy of the Triangle Stream Link (docs/MODEL.md §3):
+        // its stalled cycles by how many ICCs' Triangle FIFOs held it.
+        const model::StreamLink::Stats& tl = r.triangle_link;
+        std::uint64_t held = 0, icc_held = 0, alone = 0;
+        nlohmann::json bins = nlohmann::json::array();
+        const std::size_t top = model::StreamLink::held_bin(std::max<std::uint64_t>(c.iccs, 1));
+        for (std::size_t b = 0; b <= top; ++b) {
+            bins.push_back({{"iccs", model::StreamLink::held_bin_name(b)}, {"cycles", tl.held_by[b]}});
+            held += tl.held_by[b];
+        }
+        for (const auto& s : r.iccs) {
+            icc_held += s.triangle_selector.blocked_fifo_full;
+            alone += s.triangle_selector.blocked_alone;
+        }
+        j["stall_anatomy"] = {{"triangle_link_stall_cycles", tl.stall_cycles},
+                              {"fifo_held_cycles", held},
+                              {"undecided_only_cycles", tl.stall_cycles - held},
+                              {"icc_held_cycles", icc_held},
+                              {"mean_holders", held ? double(icc_held) / double(held) : 0.0},
+                              {"alone_cycles", alone},
+                              {"held_by", bins}};
+    }
     j["pass_cycles"] = r.pass_cycles;
     nlohmann::json iccs = nlohmann::json::array();
     std::uint64_t rti_busy = 0, b_full = 0, b_undec = 0, b_sph = 0, max_tri = 0, max_sph = 0, max_pid = 0, pass_cycles = 0;
@@ -286,6 +309,7 @@ nlohmann::json sim_json(const SimReportInput& in) {
             {"stall_cycles",
              {{"link_blocked_triangle_fifo_full", s.triangle_selector.blocked_fifo_full},
               {"link_blocked_sphere_undecided", s.triangle_selector.blocked_undecided},
+              {"link_blocked_triangle_fifo_alone", s.triangle_selector.blocked_alone},
               {"link_blocked_sphere_fifo_full", s.sphere_selector.blocked_link_cycles},
               {"psi_held_decoder_full", s.psi.stall_cycles},
               {"psi_starved", s.psi.starved_cycles},

@@ -29,17 +29,6 @@ V& make_rtl(std::unique_ptr<sc_core::sc_module>& slot) {
 TriangleSelectorRtl::TriangleSelectorRtl(sc_core::sc_module_name n, TriangleSelector& core, Fifo<TriWork>& fifo,
                                          bool full_early)
     : sc_core::sc_module(n),
-      clk("clk"),
-      active("active"),
-      buf("buf"),
-      decided("decided"),
-      record("record"),
-      valid("valid"),
-      stall("stall"),
-      planeid("planeid"),
-      first_tri("first_tri"),
-      ready("ready"),
-      planeid_pop("planeid_pop"),
       fetcher_pop("fetcher_pop"),
       core_(core),
       fifo_(fifo),
@@ -113,6 +102,8 @@ TriangleSelectorRtl::TriangleSelectorRtl(sc_core::sc_module_name n, TriangleSele
 
     SC_METHOD(drive);
     sensitive << record << buf << first_tri_front_ << planeid_front_;
+    SC_METHOD(hold);
+    sensitive << ready << decided << record;
     SC_METHOD(changed);
     sensitive << rd_ptr_ << count_;
     dont_initialize();
@@ -140,6 +131,11 @@ void TriangleSelectorRtl::drive() {
     pid_cols_.write(p.cols);
 }
 
+void TriangleSelectorRtl::hold() {
+    const LinkRecord& r = record.read();
+    fifo_hold.write(!ready.read() && decided.read() > (r.present ? r.sphere : 0));
+}
+
 void TriangleSelectorRtl::changed() { changed_.notify(); }
 
 void TriangleSelectorRtl::tick() {
@@ -153,6 +149,7 @@ void TriangleSelectorRtl::tick() {
         planeid->pop();
         first_tri->pop();
     }
+    if (stall.read() && fifo_hold.read() && holders.read() == 1) ++alone_;
 }
 
 TriWork TriangleSelectorRtl::at(std::uint32_t i) const {
@@ -183,6 +180,8 @@ void TriangleSelectorRtl::read_counters() {
     fifo_.record_push(max_count_.read(), pushes);
     core_.note_blocked_full(fifo_, now.blocked_full - read_.blocked_full);
     core_.add_blocked_undecided(now.blocked_undecided - read_.blocked_undecided);
+    core_.note_alone(alone_);
+    alone_ = 0;
     read_ = now;
 }
 

@@ -28,26 +28,18 @@
 #include "../../fifo.hpp"
 #include "../fifo_channel.hpp"
 #include "../signals.hpp"
+#include "../triangle_selector_ports.hpp"
 #include "../../triangle_selector.hpp"
 
 namespace raplas::model::netlist {
 
-class TriangleSelectorRtl : public sc_core::sc_module, public FifoReadIf<TriWork> {
+class TriangleSelectorRtl : public sc_core::sc_module, public TriangleSelectorPorts, public FifoReadIf<TriWork> {
 public:
     using Params = TriangleSelector::Params;
     using Stats = TriangleSelector::Stats;
 
-    // TriangleSelectorModule's ports (but the Triangle FIFO's, which it holds).
-    sc_core::sc_in<bool> clk;
-    sc_core::sc_in<bool> active;
-    sc_core::sc_in<std::uint8_t> buf;        // the group's Ray / Min-distance Memory buffer
-    sc_core::sc_in<std::uint32_t> decided;   // the Decoder's count
-    sc_core::sc_in<LinkRecord> record;       // the Triangle Stream Link
-    sc_core::sc_in<bool> valid, stall;
-    sc_core::sc_port<FifoReadIf<PlaneIdEntry>> planeid;
-    sc_core::sc_port<FifoReadIf<FirstTriEntry>> first_tri;
-    sc_core::sc_out<bool> ready;
-    sc_core::sc_out<bool> planeid_pop;
+    // TriangleSelectorModule's ports (TriangleSelectorPorts; but the
+    // Triangle FIFO's, which it holds), and:
     // From the Ray Data Fetcher: the Triangle FIFO entries it takes at the next edge (C).
     sc_core::sc_in<std::uint32_t> fetcher_pop;
 
@@ -76,6 +68,7 @@ public:
 
 private:
     void drive();    // glue: the RTL's input wires
+    void hold();     // its FIFO holds the link: not ready, the sphere decided
     void changed();  // the FIFO's read pointer or occupancy moved: tells its readers
     void tick();     // the clock edge: the RAM's write port, the PlaneID and First-Triangle-ID pops
 
@@ -104,6 +97,7 @@ private:
     struct Counters {
         std::uint64_t selected = 0, blocked_full = 0, blocked_undecided = 0;
     } read_;  // as read_counters last read them
+    std::uint64_t alone_ = 0;  // cycles its FIFO alone held the link, since read_counters
 };
 
 }  // namespace raplas::model::netlist
