@@ -343,9 +343,10 @@ def write_text(path, text):
     os.replace(tmp, path)
 
 
-def write_csv(path, rows):
+def write_csv(path, rows, fields=None):
+    """rows (dicts) as CSV; `fields`: the header when rows may be empty."""
     buf = io.StringIO()
-    w = csv.DictWriter(buf, fieldnames=list(rows[0].keys()), lineterminator="\n")
+    w = csv.DictWriter(buf, fieldnames=list(rows[0].keys()) if rows else fields, lineterminator="\n")
     w.writeheader()
     w.writerows(rows)
     write_text(path, buf.getvalue())
@@ -457,9 +458,10 @@ class Ctx:
             return []
         return [f"image.width={size}", f"image.height={size}"]
 
-    def sweep(self, name, iccs, fifos, sets=(), size=None, inputs=None, raw=False):
+    def sweep(self, name, iccs, fifos, sets=(), size=None, inputs=None, raw=False, jobs=None):
         """Runs (or resumes) one `raplas sweep`; returns its rows, keyed (scene key, iccs, fifo).
-        Unless `raw`, the sweep runs under the current reading (named with its suffix)."""
+        Unless `raw`, the sweep runs under the current reading (named with its suffix). `jobs`:
+        simulations at a time (default --jobs), for sweeps run side by side."""
         a = self.a
         size = size or self.plan.size
         inputs = inputs or self.inputs
@@ -482,7 +484,7 @@ class Ctx:
             cmd += ["--fifo", ",".join(map(str, fifos))]
         for s in sets:
             cmd += ["--set", s]
-        cmd += ["--out", out, "--jobs", str(a.jobs), "-q"]
+        cmd += ["--out", out, "--jobs", str(jobs or a.jobs), "-q"]
         if not os.path.exists(os.path.join(wd, "sweep.json")):
             run(cmd + ["--emit-jobs", os.path.join(self.work, name + ".jobs")], stdout=subprocess.DEVNULL)
         # One trace per scene and scene settings for all sweeps: a trace depends on
@@ -503,7 +505,10 @@ class Ctx:
         for i, s in enumerate(inputs):
             mine = os.path.join(wd, f"trace-{i}.trace")
             if os.path.exists(mine) and not os.path.exists(cached(s)):
-                os.link(mine, cached(s))
+                try:
+                    os.link(mine, cached(s))
+                except FileExistsError:  # another sweep, run beside this one, cached it first
+                    pass
         if not raw:
             shutil.copyfile(out, os.path.join(a.out, "sweeps", name + ".csv"))
         return self.rows(out, inputs, iccs, fifos)
