@@ -1093,7 +1093,11 @@ def fifo(c):
         else:
             with ThreadPoolExecutor(max_workers=c.a.jobs) as ex:
                 futures = {i: ex.submit(tasks[i][1]) for i in order}
-                res = {i: f.result() for i, f in futures.items()}
+                try:
+                    res = {i: f.result() for i, f in futures.items()}
+                except BaseException:  # a failed run: the runs under way finish, no other starts
+                    ex.shutdown(cancel_futures=True)
+                    raise
         return [res[i] for i in range(len(tasks))]
 
     # The bases: 1 ICC at the deepest FIFO, per scene, image and combination of the keys that change it.
