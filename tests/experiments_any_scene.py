@@ -9,14 +9,19 @@ made by make_room() below: `tests/experiments_any_scene.py --write-mesh PATH`).
    takes any scene writes its tables and plots into TMP (and its work files into
    TMP/work), and their numbers are sane: speedups of 1 at 1 ICC and at most the
    ICC count, the cycles those of `raplas simulate` run by hand on the same scene,
-   efficiencies under the ceiling of unbounded FIFOs, no marks against the paper
-   (which has no figures for this scene) but the paper's Table 5 beside it, no
-   Embree column (the benchmark knows the shipped scenes only), and so on.
+   efficiencies under the ceiling of unbounded FIFOs, fifo's answer for every
+   combination of the open choices (FIFO_GRID) agreeing with the depths it tried
+   and never falling as the ICC count rises, its SRAM the depth times the record
+   bytes the model's area block counts, no marks against the paper (which has no
+   figures for this scene) but the paper's Table 5 beside it, no Embree column
+   (the benchmark knows the shipped scenes only), and so on.
 2. `fig8 --quick --mesh room.obj --scene room.toml`: two scenes of one name are
    kept apart, each with the cycles of its own `raplas simulate`.
 3. Bad input: one line on stderr, exit 2, nothing written.
 """
 import csv
+import importlib.util
+import itertools
 import json
 import os
 import subprocess
@@ -69,6 +74,9 @@ if len(sys.argv) == 3 and sys.argv[1] == "--write-mesh":
 
 raplas, root = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 tool = os.path.join(root, "tools", "experiments.py")
+spec = importlib.util.spec_from_file_location("experiments", tool)
+exp = importlib.util.module_from_spec(spec)  # its grids (FIFO_GRID, QUICK_PLAN): main() does not run
+spec.loader.exec_module(exp)
 mesh = os.path.join(root, "tests", "scenes", "room.obj")
 QUICK_SIZE, QUICK_ICCS, QUICK_FIFOS = 16, [1, 2, 4], [10, 1000]
 failures = 0
@@ -90,20 +98,38 @@ def rows(path):
         return list(csv.DictReader(fh))
 
 
-def simulate(args, iccs, fifo):
-    """total_cycles of `raplas simulate` run by hand as the experiments' sweeps run it."""
+def simulate(args, iccs, fifo, sets=(), size=QUICK_SIZE, whole=False):
+    """total_cycles of `raplas simulate` run by hand as the experiments' sweeps run it (with `whole`,
+    its JSON)."""
     with tempfile.TemporaryDirectory() as d:
         js = os.path.join(d, "sim.json")
-        p = subprocess.run([raplas, "simulate"] + args + ["--config", "paper", "--iccs", str(iccs), "--fifo", str(fifo),
-                                                         "--set", f"image.width={QUICK_SIZE}",
-                                                         "--set", f"image.height={QUICK_SIZE}",
-                                                         "--set", "sim.functional=trace", "-q", "--json", js],
-                           capture_output=True, text=True)
+        cmd = [raplas, "simulate"] + args + ["--config", "paper", "--iccs", str(iccs), "--fifo", str(fifo),
+                                             "--set", f"image.width={size}", "--set", f"image.height={size}",
+                                             "--set", "sim.functional=trace", "-q", "--json", js]
+        for x in sets:
+            cmd += ["--set", x]
+        p = subprocess.run(cmd, capture_output=True, text=True)
         if p.returncode != 0:
             check(False, f"raplas simulate {' '.join(args)}: exit {p.returncode}: {p.stderr.strip()}")
             return None
         with open(js) as fh:
-            return json.load(fh)["total_cycles"]
+            j = json.load(fh)
+            return j if whole else j["total_cycles"]
+
+
+def config_value(key):
+    """A key of `raplas simulate --config paper --dump-config`, as its TOML text."""
+    out = subprocess.run([raplas, "simulate", "--config", "paper", "--dump-config"], capture_output=True,
+                         text=True).stdout
+    section = ""
+    for line in out.splitlines():
+        if line.startswith("["):
+            section = line.strip("[] \n") + "."
+        elif "=" in line and not line.startswith("#"):
+            k, v = (x.strip() for x in line.split("=", 1))
+            if section + k == key:
+                return v.strip('"')
+    return None
 
 
 def close(a, b, rel=1e-3):
@@ -121,9 +147,9 @@ with tempfile.TemporaryDirectory() as tmp:
         sys.exit(1)
     outputs = ["fig8.png", "fig8.csv", "fig8.md", "fig9.png", "fig9.csv", "fig9.md", "fig10.png", "fig10.csv",
                "fig10.md", "table5.csv", "table5.md", "table5_cpu.json", "beyond.png", "beyond.csv", "beyond.md",
-               "crossover.csv", "fifo.png", "fifo.csv", "fifo.md", "fifo_answers.csv", "readings.csv",
+               "crossover.csv", "fifo.png", "fifo.csv", "fifo.md", "fifo_points.csv", "readings.csv",
                "readings.md", "realtime.png", "realtime.csv", "realtime.md", "realtime_check.csv",
-               "sweeps/streaming.csv", "sweeps/shared.csv", "sweeps/distributed_rti.csv", "sweeps/fifo.csv"]
+               "sweeps/streaming.csv", "sweeps/shared.csv", "sweeps/distributed_rti.csv"]
     missing = [x for x in outputs if not os.path.isfile(os.path.join(out, x))]
     check(not missing, f"every table and plot is in --out ({len(outputs)} files; missing: {missing})")
     pngs = [x for x in outputs if x.endswith(".png") and x not in missing]
@@ -188,22 +214,93 @@ with tempfile.TemporaryDirectory() as tmp:
     check({int(x["image"]) for x in be} == {16, 32} and len(cr) == 2 and max(int(x["iccs"]) for x in be) == 16,
           f"beyond.csv: 16x16 and 32x32 up to 16 ICCs ({len(be)} rows), crossover.csv: {len(cr)} rows")
 
-    ff = rows(os.path.join(out, "fifo.csv"))
-    ans = rows(os.path.join(out, "fifo_answers.csv"))
-    ceil = {int(a["iccs"]): float(a["ceiling_unbounded_fifos"]) for a in ans}
-    check(len(ff) == 2 * 3 and set(ceil) == {2, 4} and all(0 < c <= 1 for c in ceil.values()),
-          f"fifo.csv: 2 and 4 ICCs x 3 depths; ceilings {ceil}")
-    check(all(float(x["efficiency"]) <= ceil[int(x["iccs"])] + 1e-3 for x in ff),
-          "fifo.csv: no depth beats the ceiling of unbounded FIFOs")
-    base = int(by8[(1, 1000)]["total_cycles"])
-    check(all(close(float(x["efficiency"]), base / int(x["total_cycles"]) / int(x["iccs"])) for x in ff),
-          "fifo.csv: efficiency over the stated base (1 ICC at FIFO 1000) at every depth")
+    # fifo: every combination of the open choices (FIFO_GRID) x the quick plan's ICC counts, each
+    # answer the smallest depth of the ladder reaching the target, consistent with the points tried.
+    grid = [(key, [str(v).lower() if isinstance(v, bool) else str(v) for v in values])
+            for key, values, _ in exp.FIFO_GRID]
+    combos = 1
+    for _, values in grid:
+        combos *= len(values)
+    plan_k = {k: QUICK_SIZE * scale for k, scale in exp.QUICK_PLAN["fifo_iccs"]}
+    ladder, target = exp.QUICK_PLAN["fifo_depths"], exp.QUICK_PLAN["fifo_target"]
+    ans = rows(os.path.join(out, "fifo.csv"))
+    pts = rows(os.path.join(out, "fifo_points.csv"))
+    cells = {(a["combination"], int(a["iccs"])): a for a in ans}
+    check(len(ans) == combos * len(plan_k) == len(cells) and
+          {tuple(a[key] for key, _ in grid) for a in ans} == {tuple(x) for x in itertools.product(
+              *[v for _, v in grid])} and all(int(a["image"]) == plan_k[int(a["iccs"])] for a in ans),
+          f"fifo.csv: {len(ans)} answers, the {combos} combinations of {[k for k, _ in grid]} x ICCs "
+          f"{sorted(plan_k)} on images {plan_k}")
+    tried = {}
+    for x in pts:
+        tried.setdefault((x["combination"], int(x["iccs"])), {})[int(x["fifo_depth"])] = x
+    check(all(abs(float(x["efficiency"]) - int(x["base_cycles"]) / int(x["total_cycles"]) / int(x["iccs"])) < 1e-4
+              and (float(x["efficiency"]) >= target) == (x["meets_target"] == "True") and
+              float(x["efficiency"]) <= float(cells[(x["combination"], int(x["iccs"]))]["ceiling_unbounded_fifos"])
+              + 1e-3 for x in pts) and len(pts) > 0,
+          f"fifo_points.csv: {len(pts)} points, each efficiency over its base, none above its ceiling")
+    consistent, reached = True, 0
+    for key, a in cells.items():
+        t = tried.get(key, {})
+        d = int(a["smallest_depth"]) if a["smallest_depth"] else None
+        if d is not None:
+            reached += 1
+            i = ladder.index(d)
+            ok = (d in t and t[d]["meets_target"] == "True" and
+                  all(t[e]["meets_target"] == "False" for e in t if e < d) and
+                  (i == 0 or ladder[i - 1] in t) and a["limited_by"] == "")
+        elif a["limited_by"] == "depth":
+            ok = max(ladder) in t and all(x["meets_target"] == "False" for x in t.values())
+        else:
+            ok = not t and float(a["ceiling_unbounded_fifos"]) < target and a["limited_by"] in (
+                "group count", "RTI work", "triangle stream")
+        if not ok:
+            check(False, f"fifo.csv {key}: answer '{a['smallest_depth']}' ({a['limited_by']}) against the depths "
+                         f"tried {sorted(t)}")
+        consistent &= ok
+    check(consistent and 0 < reached < len(cells),
+          f"fifo.csv: every answer agrees with the depths tried ({reached} of {len(cells)} reach "
+          f"{100 * target:.0f} %; the shallower ladder depth always tried, none meeting the target)")
+    inf = float("inf")
+    mono = []
+    for name in {a["combination"] for a in ans}:
+        ds = [int(cells[(name, k)]["smallest_depth"] or 0) or inf for k in sorted(plan_k)]
+        if any(x > y for x, y in zip(ds, ds[1:])):
+            mono.append((name, ds))
+    check(not mono, f"fifo.csv: the smallest depth never falls as the ICC count rises (none = above every depth)"
+                    f"{': ' + str(mono) if mono else ''}")
+    entry = int(config_value("link.sphere_record_bytes")) + int(config_value("link.triangle_record_bytes"))
+    check(all(int(a["entry_bytes"]) == entry and
+              (a["sram_bytes_per_icc"] == "" if not a["smallest_depth"] else
+               int(a["sram_bytes_per_icc"]) == int(a["smallest_depth"]) * entry ==
+               int(a["sphere_fifo_bytes"]) + int(a["triangle_fifo_bytes"])) for a in ans) and
+          all(int(x["sram_bytes_per_icc"]) == int(x["fifo_depth"]) * entry for x in pts),
+          f"fifo.csv: SRAM per ICC = depth x {entry} bytes (sphere + triangle record, from --dump-config)")
+    j = simulate(["--mesh", mesh], 1, 10, ["area.model=blocks", "sim.estimate=fifo_bound"], whole=True)
+    if j:
+        f = j["area"]["per_icc"]["fifos"]
+        area_bytes = (f["sphere"] + f["triangle"]) / float(config_value("area.sram_byte"))
+        check(abs(area_bytes - 10 * entry) < 1e-6,
+              f"the model's area block prices a 10-deep Sphere and Triangle FIFO at {area_bytes:g} bytes (fifo: "
+              f"{10 * entry})")
+    # A key that cannot change a 1-ICC run (the group order) shares the base run among its values; the
+    # default combination's base equals a random-order run by hand.
+    changes = [key for key, _, one_icc in exp.FIFO_GRID if one_icc]
+    bases = {}
     for a in ans:
-        eff = {int(x["fifo_depth"]): float(x["efficiency"]) for x in ff if x["iccs"] == a["iccs"]}
-        reach = [d for d in sorted(eff) if eff[d] >= 0.9]
-        check(a["smallest_depth_reaching_target"] == (str(reach[0]) if reach else ""),
-              f"fifo_answers.csv, {a['iccs']} ICCs: smallest depth reaching 90 % "
-              f"'{a['smallest_depth_reaching_target']}' agrees with fifo.csv")
+        bases.setdefault((a["image"],) + tuple(a[key] for key in changes), set()).add(a["base_cycles"])
+    default = cells[("default", min(plan_k))]
+    by_hand = simulate(["--mesh", mesh], 1, max(ladder), ["workload.group_order=random"])
+    check(all(len(v) == 1 for v in bases.values()) and by_hand == int(default["base_cycles"]),
+          f"fifo: one base for every group order ({default['base_cycles']} cycles; random order by hand: {by_hand})")
+    x = next(x for x in pts if x["combination"] == "default" and int(x["image"]) == 2 * QUICK_SIZE)
+    by_hand = simulate(["--mesh", mesh], int(x["iccs"]), int(x["fifo_depth"]), size=2 * QUICK_SIZE)
+    check(by_hand == int(x["total_cycles"]),
+          f"fifo_points.csv: {x['iccs']} ICCs at FIFO {x['fifo_depth']} on {2 * QUICK_SIZE}x{2 * QUICK_SIZE}: "
+          f"{x['total_cycles']} cycles, raplas simulate by hand: {by_hand}")
+    md = open(os.path.join(out, "fifo.md")).read()
+    check(md.count("\n| ") == combos + 1 and "40KB SRAM" in md and "none: ceiling" in md,
+          "fifo.md: one row per combination, the paper's 40 KB beside the answers, the reason for each none")
 
     rd = rows(os.path.join(out, "readings.csv"))
     md = open(os.path.join(out, "readings.md")).read()

@@ -10,8 +10,9 @@ on any scene:
   fig10        Figure 10: triangle transfers and cycles, normalised to the shared memory at the same ICCs
   table5       Table 5: time at 400 MHz, 1 and 16 ICCs, beside CPU times on this machine
   beyond       64..4096 ICCs, 64x64 and 256x256: streaming vs shared, crossover
-  fifo         efficiency against the FIFO depth over a stated base (1 ICC at the deepest FIFO),
-               the depth that reaches 90 %, and the ceiling no depth passes
+  fifo         the smallest FIFO depth that keeps 90 % efficiency at 16, 48, 256 and 1,024 ICCs
+               (over 1 ICC at the deepest FIFO; 256 and 1,024 ICCs on 128x128 and 256x256) and
+               the SRAM per ICC it costs, per scene and combination of the open choices (FIFO_GRID)
   readings     every paper result under each combination of the open choices
   realtime     720p and 1080p frames at 16/256/4096 ICCs (sampled), ICCs for 30 frames/s, Embree
   sensitivity  Figure 8 with the RTI or the work per group changed (the paper's scenes)
@@ -31,7 +32,8 @@ equal compute mode's), area.model=pe_units (the paper's area: K PEs and memories
 PE:memory = 1:2).
 
 --out DIR (required; it must exist) receives the PNG, CSV and Markdown of each
-experiment and, in DIR/sweeps, the CSV of every sweep they were computed from:
+experiment and, in DIR/sweeps, the CSV of every sweep they were computed from
+(fifo's one-point sweeps stay in the work folder; fifo_points.csv has every point):
 nothing is written into the checkout unless DIR is in it (the shipped
 docs/results are `--out docs/results`). Sweeps run in --work (default: DIR/work,
 or build/experiments when DIR is inside the source tree; a sweep already there is
@@ -40,11 +42,13 @@ size and shared by every sweep.
 
 --reading both|any runs an experiment under that Triangle Selector reading
 (icc.triangle_select, docs/MODEL.md §3); outputs for the reading that is not
-the model's default get a suffix (fig8_both.png, ...).
+the model's default get a suffix (fig8_both.png, ...). fifo covers both readings
+unless --reading names one.
 
 --quick runs every experiment small (16x16 pixels, 1, 2 and 4 ICCs, FIFO 10 and
-1000, small beyond, fifo and realtime grids; seconds on a small scene, as in CI);
---size, --iccs and --fifos set the image and the grid of the paper's figures.
+1000, small beyond, fifo and realtime grids, fifo's target 60 %; seconds on a small
+scene, as in CI); --size, --iccs and --fifos set the image and the grid of the
+paper's figures (fifo's images are 1, 1, 2 and 4 times --size).
 --replot remakes the tables and plots from the sweeps already in DIR/sweeps (and
 the work folder) and simulates nothing.
 Table 5's and realtime's Embree times need build/bench/raplas_bench_frontend,
@@ -104,6 +108,11 @@ PAPER_PLAN = {
     "large_more_iccs": LARGE_MORE_ICCS,
     "readings_beyond": [64, 96, 128, 256, 512, 1024, 2048],
     "fifo_depths": [1, 2, 5, 10, 20, 50, 100, 200, 500, 1000, 2000, 5000, 10000],
+    # fifo: (ICC count, image side over `size`), and the efficiency to keep. The paper's 64x64 scenes
+    # hold 2,411 to 4,112 groups, too few for 256 and 1,024 ICCs (passes of equal length would give
+    # 78 to 98 %: docs/results/beyond.csv, pass_limited_speedup), which run on 128x128 and 256x256
+    # (the bunny's 9,660 groups at 128x128 are 39 passes of 256 ICCs: 96.8 %; fifo.csv, group_limit).
+    "fifo_iccs": [(16, 1), (48, 1), (256, 2), (1024, 4)], "fifo_target": 0.90,
     "rt_sizes": [(1280, 720), (1920, 1080)], "rt_iccs": [16, 256, 4096],
     # Shadow passes sampled per realtime point (sim.estimate = sample_passes), by ICC count.
     "rt_sample": {16: 400, 256: 300, 4096: 32},
@@ -116,6 +125,8 @@ QUICK_PLAN = {
     "beyond_iccs": [8, 16], "large_size": 32, "large_iccs": [1, 4, 16], "large_more_iccs": [8],
     "readings_beyond": [8, 16],
     "fifo_depths": [1, 10, 1000],
+    # (the passes of a 16x16 image are too uneven for 90 % at 2 ICCs, even with unbounded FIFOs)
+    "fifo_iccs": [(2, 1), (4, 1), (8, 2)], "fifo_target": 0.60,
     "rt_sizes": [(32, 18), (64, 36)], "rt_iccs": [2, 8],
     "rt_sample": {2: 8, 8: 4},
     "rt_check_size": (32, 18), "rt_check": {2: 4, 8: 2},
@@ -146,7 +157,6 @@ class Plan:
         self.fbig = max(self.fifos)  # "FIFO 1000"
         self.beyond_iccs = [k for k in self.beyond_iccs if k > self.kmax]
         self.readings_beyond = [k for k in self.readings_beyond if k > self.kmax]
-        self.fifo_iccs = sorted({1, self.kmid, self.kmax})
         self.sens_iccs = sorted({1, self.kmid, self.kmax})
         self.is_paper = all(getattr(self, k) == v for k, v in PAPER_PLAN.items())
 
@@ -343,9 +353,10 @@ def write_text(path, text):
     os.replace(tmp, path)
 
 
-def write_csv(path, rows):
+def write_csv(path, rows, fields=None):
+    """rows (dicts) as CSV; `fields`: the header when rows may be empty."""
     buf = io.StringIO()
-    w = csv.DictWriter(buf, fieldnames=list(rows[0].keys()), lineterminator="\n")
+    w = csv.DictWriter(buf, fieldnames=list(rows[0].keys()) if rows else fields, lineterminator="\n")
     w.writeheader()
     w.writerows(rows)
     write_text(path, buf.getvalue())
@@ -457,9 +468,10 @@ class Ctx:
             return []
         return [f"image.width={size}", f"image.height={size}"]
 
-    def sweep(self, name, iccs, fifos, sets=(), size=None, inputs=None, raw=False):
+    def sweep(self, name, iccs, fifos, sets=(), size=None, inputs=None, raw=False, jobs=None):
         """Runs (or resumes) one `raplas sweep`; returns its rows, keyed (scene key, iccs, fifo).
-        Unless `raw`, the sweep runs under the current reading (named with its suffix)."""
+        Unless `raw`, the sweep runs under the current reading (named with its suffix). `jobs`:
+        simulations at a time (default --jobs), for sweeps run side by side."""
         a = self.a
         size = size or self.plan.size
         inputs = inputs or self.inputs
@@ -482,7 +494,7 @@ class Ctx:
             cmd += ["--fifo", ",".join(map(str, fifos))]
         for s in sets:
             cmd += ["--set", s]
-        cmd += ["--out", out, "--jobs", str(a.jobs), "-q"]
+        cmd += ["--out", out, "--jobs", str(jobs or a.jobs), "-q"]
         if not os.path.exists(os.path.join(wd, "sweep.json")):
             run(cmd + ["--emit-jobs", os.path.join(self.work, name + ".jobs")], stdout=subprocess.DEVNULL)
         # One trace per scene and scene settings for all sweeps: a trace depends on
@@ -503,7 +515,10 @@ class Ctx:
         for i, s in enumerate(inputs):
             mine = os.path.join(wd, f"trace-{i}.trace")
             if os.path.exists(mine) and not os.path.exists(cached(s)):
-                os.link(mine, cached(s))
+                try:
+                    os.link(mine, cached(s))
+                except FileExistsError:  # another sweep, run beside this one, cached it first
+                    pass
         if not raw:
             shutil.copyfile(out, os.path.join(a.out, "sweeps", name + ".csv"))
         return self.rows(out, inputs, iccs, fifos)
@@ -933,93 +948,331 @@ def beyond(c):
     log(f"wrote {c.out('beyond.png')}, beyond.csv, crossover.csv, beyond.md")
 
 
-# ---- FIFO depth: efficiency over a stated base, the depth that reaches a target, the ceiling ----
+# ---- FIFO depth: the smallest depth that keeps a target efficiency, per combination of the open choices ----
 
-FIFO_TARGET = 0.90
+# The open choices the fifo step answers for (docs/MODEL.md §3): every combination of these values is a
+# machine of its own, with its own base run and answers. Each entry: (config key, values, whether the key
+# can change a 1-ICC run). A value equal to the model's default (`raplas simulate --config paper
+# --dump-config`) is neither set nor named, so adding a key here (one line, its default among its values)
+# keeps the runs already made for the combinations that leave it at its default. A key that cannot change
+# a 1-ICC run (passes not overlapped: every pass is one group alone, whatever the order) shares the base
+# run among its values. workload.group_order = strided is left out: it behaves as random (docs/RESULTS.md).
+FIFO_GRID = [
+    ("icc.triangle_select", ["any", "both"], True),
+    ("workload.group_order", ["pixel", "morton", "random"], False),
+    ("link.stall_policy", ["any_full", "needed_full"], True),
+]
+
+
+_CONFIG_DUMPS = {}
+
+
+def config_dump(raplas, sets=()):
+    """The resolved machine config of `raplas simulate --config paper --dump-config` under `sets`, as
+    {"section.key": value} (strings, booleans and numbers as TOML writes them)."""
+    cache = _CONFIG_DUMPS
+    key = (raplas,) + tuple(sets)
+    if key not in cache:
+        cmd = [raplas, "simulate", "--config", "paper", "--dump-config"]
+        for x in sets:
+            cmd += ["--set", x]
+        p = subprocess.run(cmd, capture_output=True, text=True)
+        if p.returncode != 0:
+            why = (p.stderr.strip().splitlines() or [f"exit {p.returncode}"])[-1]
+            sys.exit(f"experiments: {' '.join(cmd)}: {why}")
+        cfg, section = {}, ""
+        for line in p.stdout.splitlines():
+            line = line.strip()
+            if not line or line.startswith("#"):
+                continue
+            m = re.fullmatch(r"\[([A-Za-z0-9_.]+)\]", line)
+            if m:
+                section = m.group(1) + "."
+                continue
+            k, _, v = line.partition("=")
+            v = v.strip()
+            cfg[section + k.strip()] = v[1:-1] if v.startswith('"') else v if v in ("true", "false") else num(v)
+        cache[key] = cfg
+    return cache[key]
+
+
+class FifoCombination:
+    """One combination of FIFO_GRID's values: `values` {key: value} in grid order, `sets` (the values
+    that are not the model's default), `name` (those values, for file names; `default` when none),
+    `base_sets` and `base_name` (the same without the keys that cannot change a 1-ICC run)."""
+
+    def __init__(self, values, defaults, one_icc):
+        self.values = values
+        changed = [k for k, v in values.items() if v != defaults[k]]
+        self.sets = [f"{k}={values[k]}" for k in changed]
+        self.name = "_".join(f"{k.split('.')[-1]}-{values[k]}" for k in changed) or "default"
+        # With overlapped passes a 1-ICC pass overlaps the next group's: the order counts there.
+        shared = [k for k in changed if one_icc[k] or "host.overlap_passes=true" in self.sets]
+        self.base_sets = [f"{k}={values[k]}" for k in shared]
+        self.base_name = "_".join(f"{k.split('.')[-1]}-{values[k]}" for k in shared) or "default"
+
+    def label(self):
+        return " · ".join(str(v) for v in self.values.values())
+
+
+def fifo_combinations(c):
+    """Every combination of FIFO_GRID's values, the model's defaults first; with --reading, only those
+    of that Triangle Selector reading."""
+    cfg = config_dump(c.a.raplas)
+    axes, defaults, one_icc = [], {}, {}
+    for key, values, changes_one_icc in FIFO_GRID:
+        text = [str(v).lower() if isinstance(v, bool) else str(v) for v in values]
+        if key == "icc.triangle_select" and c.a.reading:
+            text = [c.reading]
+        d = cfg[key]
+        defaults[key] = str(d).lower() if isinstance(d, bool) else str(d)
+        one_icc[key] = changes_one_icc
+        axes.append((key, text))
+    import itertools
+    return [FifoCombination(dict(zip([k for k, _ in axes], combo)), defaults, one_icc)
+            for combo in itertools.product(*[v for _, v in axes])]
+
+
+def fifo_sram(cfg, depth, group_size):
+    """Bytes of SRAM per ICC of the FIFOs a --fifo depth sets, counted as the area model counts them
+    (docs/MODEL.md §6, "FIFOs"): a Sphere FIFO entry is a sphere record (link.sphere_record_bytes), a
+    Triangle FIFO entry a triangle record (link.triangle_record_bytes); the PlaneID and
+    First-Triangle-ID FIFOs (2N plane bits and area.first_tri_entry_bytes an entry) count only where
+    fifo.planeid_depth = 0 makes them follow the depth. Returns (sphere, triangle, planeid) bytes."""
+    planeid = 0
+    if cfg["fifo.planeid_depth"] == 0:
+        planeid = depth * (2 * group_size / 8 + cfg["area.first_tri_entry_bytes"])
+    return depth * cfg["link.sphere_record_bytes"], depth * cfg["link.triangle_record_bytes"], planeid
+
+
+def kb(n):
+    """Bytes as the paper writes SRAM sizes (KB = 1,000 bytes)."""
+    return f"{n:,.0f} B" if n < 1000 else f"{n / 1000:,.1f} KB" if n < 100000 else f"{n / 1000:,.0f} KB"
 
 
 def fifo(c):
-    """Efficiency at K ICCs against the FIFO depth, over one stated base: the 1-ICC run at the deepest
-    FIFO of the sweep (the same base for every depth, so that a small FIFO is not flattered by a 1-ICC
-    run that suffers from it too; the same-depth efficiency is shown beside it). The smallest depth that
-    reaches FIFO_TARGET, and the ceiling no depth can pass: the closed-form run with unbounded FIFOs
-    (sim.estimate = fifo_bound, a lower bound of the cycles), and which bound sets it."""
+    """The smallest FIFO depth of the plan's ladder (fifo_depths) that keeps the plan's target efficiency
+    (fifo_target) at each ICC count of the plan (fifo_iccs: 16, 48, 256, 1,024; the larger counts on a
+    larger image), per scene and combination of the open choices (FIFO_GRID), and the SRAM per ICC that
+    depth costs.
+    Efficiency at K ICCs is over one stated base, the 1-ICC run at the deepest FIFO of the ladder on the
+    same image (the same base for every depth, so that a small FIFO is not flattered by a 1-ICC run that
+    suffers from it too). A cell first gets its ceiling, the efficiency of the closed-form run with
+    unbounded FIFOs (sim.estimate = fifo_bound, a lower bound of the cycles at any depth): below the
+    target no depth is tried; else the ladder is bisected (efficiency taken to rise with the depth, as
+    `raplas sweep --find` takes it), each depth tried a one-point sweep of its own, cached in the work
+    dir; independent cells run --jobs at a time."""
     import matplotlib.pyplot as plt
+    from concurrent.futures import ThreadPoolExecutor
     p = c.plan
     D = p.fifo_depths
     dmax = max(D)
-    st = c.sweep("fifo", p.fifo_iccs, D)
-    fb = c.sweep("fifo_bound", p.fifo_iccs, [dmax], ["sim.estimate=fifo_bound"])
+    combos = fifo_combinations(c)
+    sizes = {}  # image side -> the ICC counts run on it
+    for k, scale in p.fifo_iccs:
+        sizes.setdefault(p.size * scale, []).append(k)
+    os.makedirs(os.path.join(c.work, "fifo"), exist_ok=True)
+
+    # The ceilings: one closed-form sweep per combination and image, every scene (it makes the traces too).
+    bound = {}
+    for cb in combos:
+        for size, ks in sizes.items():
+            bound.update({(cb.name, size) + key: r for key, r in c.sweep(
+                f"fifo/bound_{cb.name}_{size}", ks, [dmax], cb.sets + ["sim.estimate=fifo_bound"], size,
+                raw=True).items()})
+
+    def point(name, sets, size, s, k, d):
+        return c.sweep(f"fifo/{name}_{size}_{s.key}_k{k}_d{d}", [k], [d], sets, size, [s], raw=True,
+                       jobs=1)[(s.key, k, d)]
+
+    def run_all(tasks):
+        """Runs the callables, --jobs at a time, the largest images first; their results in order."""
+        order = sorted(range(len(tasks)), key=lambda i: -tasks[i][0])
+        if c.a.jobs <= 1 or REPLOT:
+            res = {i: tasks[i][1]() for i in order}
+        else:
+            with ThreadPoolExecutor(max_workers=c.a.jobs) as ex:
+                futures = {i: ex.submit(tasks[i][1]) for i in order}
+                try:
+                    res = {i: f.result() for i, f in futures.items()}
+                except BaseException:  # a failed run: the runs under way finish, no other starts
+                    ex.shutdown(cancel_futures=True)
+                    raise
+        return [res[i] for i in range(len(tasks))]
+
+    # The bases: 1 ICC at the deepest FIFO, per scene, image and combination of the keys that change it.
+    need = {}
+    for cb in combos:
+        for size in sizes:
+            for s in c.inputs:
+                need.setdefault((cb.base_name, size, s.key), (cb.base_sets, s))
+    keys = list(need)
+    got = run_all([(key[1], lambda key=key: point("base_" + key[0], need[key][0], key[1], need[key][1], 1, dmax))
+                   for key in keys])
+    base = dict(zip(keys, got))
+
+    def cell(cb, size, s):
+        """Every ICC count on this image: (k, the base row, the bound row, {depth: row tried}, answer)."""
+        out = []
+        b1 = base[(cb.base_name, size, s.key)]
+        for k in sizes[size]:
+            b = bound[(cb.name, size, s.key, k, dmax)]
+            tried = {}
+            lo, hi = -1, len(D)  # D[lo] misses the target (or lo = -1), D[hi] meets it (or hi = len(D))
+            if b1["total_cycles"] / b["total_cycles"] / k >= p.fifo_target:
+                while hi - lo > 1:
+                    mid = (lo + hi) // 2
+                    r = tried[D[mid]] = point(cb.name, cb.sets, size, s, k, D[mid])
+                    if b1["total_cycles"] / r["total_cycles"] / k >= p.fifo_target:
+                        hi = mid
+                    else:
+                        lo = mid
+            out.append((k, b1, b, tried, D[hi] if hi < len(D) else None))
+        return out
+
+    cells = [(cb, size, s) for cb in combos for size in sizes for s in c.inputs]
+    results = run_all([(size, lambda cb=cb, size=size, s=s: cell(cb, size, s)) for cb, size, s in cells])
+
+    keys_of = list(combos[0].values)
     rows, answers = [], []
-    n = len(c.inputs)
-    fig, axes = plt.subplots(1, n, figsize=(5.2 * n, 4.3), squeeze=False, sharey=True)
-    ks = [k for k in p.fifo_iccs if k > 1]
-    styles = ["-", "-", "-"]
-    colors = ["tab:blue", "tab:red", "tab:green", "tab:purple", "tab:orange"]
-    for ax, s in zip(axes[0], c.inputs):
-        base = st[(s.key, 1, dmax)]["total_cycles"]
-        for j, k in enumerate(ks):
-            col = colors[j % len(colors)]
-            effs, same = [], []
-            for d in D:
-                r = st[(s.key, k, d)]
-                e = base / r["total_cycles"] / k
-                e_same = st[(s.key, 1, d)]["total_cycles"] / r["total_cycles"] / k
-                effs.append(e)
-                same.append(e_same)
-                rows.append({"scene": s.key, "iccs": k, "fifo_depth": d, "total_cycles": r["total_cycles"],
-                             "efficiency": round(e, 4), "efficiency_same_depth_base": round(e_same, 4),
-                             "base_iccs": 1, "base_fifo_depth": dmax,
+    for (cb, size, s), res in zip(cells, results):
+        cfg = config_dump(c.a.raplas, cb.sets)
+        for k, b1, b, tried, reach in res:
+            base_cycles = b1["total_cycles"]
+            n = max(b["group_size"], b["shadow_group_size"])
+            head = {"combination": cb.name, **cb.values, "scene": s.key, "image": size, "iccs": k}
+            for d in sorted(tried):
+                r = tried[d]
+                e = base_cycles / r["total_cycles"] / k
+                rows.append({**head, "fifo_depth": d, "total_cycles": r["total_cycles"], "base_cycles": base_cycles,
+                             "efficiency": round(e, 4), "meets_target": e >= p.fifo_target, "passes": r["passes"],
                              "triangle_link_stall_cycles": r["triangle_link_stall_cycles"],
-                             "pe_bound_cycles": r["pe_bound_cycles"], "memory_bound_cycles": r["memory_bound_cycles"]})
-            b = fb[(s.key, k, dmax)]
-            ceiling = base / b["total_cycles"] / k
-            by_pe, by_mem = base / b["pe_bound_cycles"] / k, base / b["memory_bound_cycles"] / k
-            cause = ("the RTI work of each pass's busiest ICC (`pe_bound_cycles`)" if by_pe <= by_mem else
-                     "streaming every triangle once per pass (`memory_bound_cycles`)")
-            reach = next((d for d, e in zip(D, effs) if e >= FIFO_TARGET), None)
-            answers.append({"scene": s.key, "iccs": k, "base_cycles": base, "target": FIFO_TARGET,
-                            "smallest_depth_reaching_target": reach if reach is not None else "",
-                            "efficiency_at_smallest_depth": round(effs[0], 4),
-                            "efficiency_at_deepest": round(effs[-1], 4),
-                            "ceiling_unbounded_fifos": round(ceiling, 4),
-                            "ceiling_pe_bound": round(by_pe, 4), "ceiling_memory_bound": round(by_mem, 4),
-                            "fifo_bound_cycles": b["total_cycles"], "bounded_by": cause})
-            ax.plot(D, effs, styles[0], marker="o", ms=4, color=col, label=f"{k} ICCs")
-            ax.plot(D, same, ":", marker=".", ms=3, color=col, lw=1,
-                    label=f"{k} ICCs, over 1 ICC at the same depth")
-            ax.axhline(ceiling, color=col, ls="--", lw=0.8, label=f"{k} ICCs: ceiling, unbounded FIFOs")
-        ax.axhline(FIFO_TARGET, color="k", lw=0.6, label=f"target: {100 * FIFO_TARGET:.0f} %")
-        ax.set_xscale("log")
-        icc_axis(ax, D, logscale=True)
-        ax.set_xlabel("Sphere and Triangle FIFO depth (records)")
+                             "blocked_triangle_fifo_full": r["blocked_triangle_fifo_full"],
+                             "max_triangle_fifo_occupancy": r["max_triangle_fifo_occupancy"],
+                             "sram_bytes_per_icc": round(sum(fifo_sram(cfg, d, n)))})
+            ceiling = base_cycles / b["total_cycles"] / k
+            by_pe, by_mem = base_cycles / b["pe_bound_cycles"] / k, base_cycles / b["memory_bound_cycles"] / k
+            groups = b["ray_groups"] / (k * b["passes"])
+            shallower = max((d for d in tried if reach is None or d < reach), default=None)
+            if reach is not None:
+                limit = ""
+            elif ceiling < p.fifo_target:  # the tightest of the three limits
+                limit = min((groups, "group count"), (by_pe, "RTI work"), (by_mem, "triangle stream"))[1]
+            else:
+                limit = "depth"
+            sph, tri, pid = fifo_sram(cfg, reach, n) if reach is not None else ("", "", "")
+            answers.append({
+                **head, "ray_groups": b["ray_groups"], "passes": b["passes"], "group_limit": round(groups, 4),
+                "base_cycles": base_cycles, "target": p.fifo_target,
+                "smallest_depth": reach if reach is not None else "", "depth_limit": dmax,
+                "efficiency_at_smallest_depth":
+                    round(base_cycles / tried[reach]["total_cycles"] / k, 4) if reach is not None else "",
+                "shallower_depth_tried": shallower if shallower is not None else "",
+                "efficiency_at_shallower_depth":
+                    round(base_cycles / tried[shallower]["total_cycles"] / k, 4) if shallower is not None else "",
+                "ceiling_unbounded_fifos": round(ceiling, 4), "ceiling_pe_bound": round(by_pe, 4),
+                "ceiling_memory_bound": round(by_mem, 4), "limited_by": limit,
+                "entry_bytes": round(sum(fifo_sram(cfg, 1, n)), 3),
+                "sphere_fifo_bytes": sph, "triangle_fifo_bytes": tri,
+                "sram_bytes_per_icc": round(sph + tri + pid) if reach is not None else "",
+                "depths_tried": len(tried)})
+    write_csv(c.out("fifo.csv"), answers)
+    write_csv(c.out("fifo_points.csv"), rows,
+              ["combination", *combos[0].values, "scene", "image", "iccs", "fifo_depth", "total_cycles", "base_cycles",
+               "efficiency", "meets_target", "passes", "triangle_link_stall_cycles", "blocked_triangle_fifo_full",
+               "max_triangle_fifo_occupancy", "sram_bytes_per_icc"])
+
+    # The table: per scene, one row per combination, one column per ICC count.
+    counts = [k for k, _ in p.fifo_iccs]
+    by = {(a["combination"], a["scene"], a["iccs"]): a for a in answers}
+    cfg0 = config_dump(c.a.raplas, combos[0].sets)
+    entry = answers[0]["entry_bytes"]  # SRAM per entry of the depth (every combination's, unless a key changes it)
+
+    def cell_text(a):
+        if a["smallest_depth"] != "":
+            return f"{fmt(a['smallest_depth'])} · {kb(a['sram_bytes_per_icc'])}"
+        if a["limited_by"] != "depth":
+            return f"none: ceiling {100 * a['ceiling_unbounded_fifos']:.0f} % ({a['limited_by']})"
+        return f"none up to {fmt(dmax)} ({100 * a['efficiency_at_shallower_depth']:.0f} % there)"
+
+    image_of = {k: p.size * scale for k, scale in p.fifo_iccs}
+    header = ["combination (" + " · ".join(f"`{k}`" for k in keys_of) + ")"] + \
+        [f"{k} ICCs ({image_of[k]}²)" for k in counts]
+    grid = "; ".join(f"`{k}` " + ", ".join(f"`{v}`" for v in vals) for k, vals, _ in FIFO_GRID
+                     if not (k == "icc.triangle_select" and c.a.reading))
+    if c.a.reading:
+        grid += f" (Triangle Selector reading `{c.reading}` only: `--reading`)"
+    images = ", ".join(f"{k} ICCs on {image_of[k]}x{image_of[k]}" for k in counts)
+    planeid = (f"the PlaneID and First-Triangle-ID FIFOs keep `fifo.planeid_depth` = {fmt(cfg0['fifo.planeid_depth'])} "
+               f"entries at every depth and are not in it" if cfg0["fifo.planeid_depth"] else
+               "with the PlaneID and First-Triangle-ID FIFOs, which follow the depth (`fifo.planeid_depth` = 0)")
+    md = [(c.scenes_line(pixels=False) if c.user else "") +
+          f"The smallest FIFO depth of the ladder {', '.join(fmt(d) for d in D)} (Sphere and Triangle FIFO, "
+          f"`--fifo`) that keeps {100 * p.fifo_target:.0f} % efficiency, and the SRAM per ICC it costs, per scene and "
+          f"combination of the open choices: {grid}. Config `paper`, 16x16 primary and shadow groups; {images} "
+          f"pixels. Efficiency at K ICCs: the cycles of 1 ICC at FIFO {fmt(dmax)} on the same image under the same "
+          f"choices, over K times the cycles at K ICCs. SRAM per ICC: the depth times {fmt(entry)} bytes, a Sphere "
+          f"FIFO entry (a sphere record, `link.sphere_record_bytes` = {cfg0['link.sphere_record_bytes']}) and a "
+          f"Triangle FIFO entry (a triangle record, `link.triangle_record_bytes` = "
+          f"{cfg0['link.triangle_record_bytes']}), as the area model counts FIFOs (docs/MODEL.md §6); {planeid}. "
+          f"The paper (§5.3): 1,000 entries, \"40KB SRAM\" per ICC (a 1,000-entry Triangle FIFO is "
+          f"{fmt(1000 * cfg0['link.triangle_record_bytes'])} bytes; with the Sphere FIFO, {kb(1000 * entry)}).\n\n"
+          "A cell: the smallest depth · its SRAM per ICC (KB = 1,000 bytes); or none, and why: the ceiling (the "
+          "efficiency with unbounded FIFOs, `sim.estimate = fifo_bound`) is below the target, and the tightest "
+          "of three limits is named: the group count (G groups in P passes of K ICCs: G / (K P), the efficiency "
+          "of passes all of one length), the RTI work of each pass's busiest ICC, the triangle stream; or no "
+          "depth of the "
+          "ladder reaches it (the efficiency at the deepest given). The ladder is bisected, the efficiency taken to "
+          "rise with the depth: `fifo_points.csv` has every depth tried, `fifo.csv` every answer with its "
+          "efficiency, the shallower depth tried and its efficiency, the ceiling and the group count's limit.\n"]
+    for s in c.inputs:
+        g = {size: next(a for a in answers if a["scene"] == s.key and a["image"] == size)["ray_groups"]
+             for size in sizes}
+        md.append(f"**{s.label}** ({'; '.join(f'{size}x{size}: {fmt(n)} ray groups' for size, n in g.items())})\n")
+        md.append(md_table(header, [[cb.label()] + [cell_text(by[(cb.name, s.key, k)]) for k in counts]
+                                    for cb in combos]))
+    write_text(c.out("fifo.md"), "\n".join(md))
+
+    # The plot: per scene, the smallest depth against the ICC count, one line per combination.
+    n = len(c.inputs)
+    fig, axes = plt.subplots(1, n, figsize=(5.4 * n, 4.6), squeeze=False, sharey=True)
+    none_y = dmax * 3
+    colors = plt.get_cmap("tab20").colors
+    markers = ["o", "s", "^", "v", "D", "P", "X", "<", ">"]
+    for ax, s in zip(axes[0], c.inputs):
+        for i, cb in enumerate(combos):
+            shift = 2 ** (0.03 * (i - (len(combos) - 1) / 2))  # side by side where answers agree
+            ys = [by[(cb.name, s.key, k)]["smallest_depth"] for k in counts]
+            ax.plot([k * shift for k in counts], [y if y != "" else none_y for y in ys], "-",
+                    marker=markers[i % len(markers)], ms=4, lw=1, color=colors[i % len(colors)], label=cb.label())
+        ax.axhline(1000, color="0.5", ls="--", lw=0.8)
+        ax.text(counts[-1], 1000 * 0.8, "paper: 1,000 entries", fontsize=7, color="0.4", ha="right", va="top")
+        ax.axhline(none_y, color="0.8", lw=6, zorder=0)
+        ax.set_xscale("log", base=2)
+        ax.set_yscale("log")
+        icc_axis(ax, counts, logscale=True)
+        from matplotlib.ticker import FixedLocator, FuncFormatter, NullLocator
+        ticks = [d for d in D if d in (1, 10, 100, 1000, 10000) or d == dmax] + [none_y]
+        ax.yaxis.set_major_locator(FixedLocator(ticks))
+        ax.yaxis.set_minor_locator(NullLocator())
+        ax.yaxis.set_major_formatter(FuncFormatter(lambda y, _p: "none" if y == none_y else f"{y:,.0f}"))
+        ax.set_ylim(min(D) / 1.5, none_y * 1.8)
+        ax.set_xlabel("Number of ICCs")
         ax.set_title(s.label, fontsize=10)
-        ax.grid(alpha=0.3, which="both")
-        ax.legend(fontsize=6)
-    axes[0][0].set_ylabel(f"Efficiency over 1 ICC at FIFO {dmax}\n(dotted: over 1 ICC at the same depth)")
-    axes[0][0].set_ylim(0, 1.05)
-    suptitle(fig, f"Efficiency against the FIFO depth (base: 1 ICC at FIFO {dmax}); dashed: the ceiling with "
-                 "unbounded FIFOs" + c.note(), fontsize=10)
+        ax.grid(alpha=0.3, which="major")
+        sec = ax.secondary_yaxis("right", functions=(lambda d: d * entry / 1000, lambda kb_: kb_ * 1000 / entry))
+        sec.yaxis.set_major_formatter(FuncFormatter(lambda v, _p: f"{v:,.3g}"))
+        if s is c.inputs[-1]:
+            sec.set_ylabel(f"SRAM per ICC, KB ({entry} bytes an entry)")
+    axes[0][0].set_ylabel(f"Smallest FIFO depth for {100 * p.fifo_target:.0f} % efficiency")
+    fig.legend(*axes[0][0].get_legend_handles_labels(), fontsize=7, ncol=min(len(combos), 4), loc="upper center",
+               bbox_to_anchor=(0.5, 0.0), title=" · ".join(keys_of), title_fontsize=7)
+    suptitle(fig, f"The smallest FIFO depth (of {', '.join(fmt(d) for d in D)}) that keeps {100 * p.fifo_target:.0f} % "
+                  f"efficiency over 1 ICC at FIFO {fmt(dmax)}, per combination of the open choices "
+                  f"({', '.join(f'{k} ICCs: {v}x{v}' for k, v in image_of.items())} pixels)", fontsize=10)
     save_png(fig, c.out("fifo.png"))
-    write_csv(c.out("fifo.csv"), rows)
-    write_csv(c.out("fifo_answers.csv"), answers)
-    t = []
-    for x in answers:
-        reach = x["smallest_depth_reaching_target"]
-        t.append([c.input(x["scene"]).label, x["iccs"], f"{100 * x['efficiency_at_smallest_depth']:.1f} %",
-                  f"{100 * x['efficiency_at_deepest']:.1f} %",
-                  fmt(reach) if reach != "" else f"none up to {fmt(dmax)}",
-                  f"{100 * x['ceiling_unbounded_fifos']:.1f} %", x["bounded_by"]])
-    md = ((c.scenes_line() if c.user else "") +
-          f"Efficiency at K ICCs over one base for every depth, the 1-ICC run at FIFO {dmax} (over a 1-ICC run "
-          f"at the same depth a small FIFO looks better than it is: `efficiency_same_depth_base` in `fifo.csv`). "
-          f"Ceiling: the efficiency of the closed-form run with unbounded FIFOs (`sim.estimate = fifo_bound`, "
-          f"a lower bound of the cycles at any depth), which no depth can pass; the bound that sets it is "
-          f"named.\n\n" +
-          md_table(["scene", "ICCs", f"efficiency at FIFO {D[0]}", f"at FIFO {dmax}",
-                    f"smallest depth reaching {100 * FIFO_TARGET:.0f} %", "ceiling (any depth)", "bounded by"], t))
-    write_text(c.out("fifo.md"), md)
-    log(f"wrote {c.out('fifo.png')}, fifo.csv, fifo_answers.csv, fifo.md")
+    log(f"wrote {c.out('fifo.png')}, " + ", ".join(os.path.basename(c.out(x)) for x in
+                                                   ("fifo.csv", "fifo_points.csv", "fifo.md")))
 
 
 # ---- Sensitivity: what makes the curves differ from the paper's ----------------------
@@ -1742,6 +1995,12 @@ def main():
         if p.returncode != 0:
             why = (p.stderr.strip().splitlines() or [f"exit {p.returncode}"])[-1]
             bad(f"--{s.kind} {s.path}: {why.removeprefix('raplas: error: ')}")
+    if "fifo" in what:
+        keys = config_dump(a.raplas)
+        for key, *_ in FIFO_GRID:
+            if key not in keys:
+                bad(f"FIFO_GRID: {key} is not a machine-config key of {a.raplas} (raplas simulate --dump-config "
+                    f"lists them)")
     a.bench = os.path.abspath(a.bench)
     if a.work is None:
         # Work files never go into the source tree: beside a build there, else beside the results.
