@@ -110,6 +110,8 @@ const std::vector<std::pair<const char*, const char*>>& columns() {
         {"blocked_undecided", "/icc_totals/blocked_undecided"},
         {"blocked_sphere_fifo_full", "/icc_totals/blocked_sphere_fifo_full"},
         {"max_triangle_fifo_occupancy", "/icc_totals/max_triangle_fifo_occupancy"},
+        {"triangle_link_fifo_held_cycles", "/stall_anatomy/fifo_held_cycles"},
+        {"triangle_link_held_alone_cycles", "/stall_anatomy/alone_cycles"},
         {"functional_checked", "/functional_checked"},
         {"functional_match", "/functional_match"},
         {"memory_system", "/memory/system"},
