@@ -149,6 +149,7 @@ with tempfile.TemporaryDirectory() as tmp:
                "fig10.md", "table5.csv", "table5.md", "table5_cpu.json", "beyond.png", "beyond.csv", "beyond.md",
                "crossover.csv", "fifo.png", "fifo.csv", "fifo.md", "fifo_points.csv", "readings.csv",
                "readings.md", "realtime.png", "realtime.csv", "realtime.md", "realtime_check.csv",
+               "anatomy.png", "anatomy.csv", "anatomy.md",
                "sweeps/streaming.csv", "sweeps/shared.csv", "sweeps/distributed_rti.csv"]
     missing = [x for x in outputs if not os.path.isfile(os.path.join(out, x))]
     check(not missing, f"every table and plot is in --out ({len(outputs)} files; missing: {missing})")
@@ -306,6 +307,30 @@ with tempfile.TemporaryDirectory() as tmp:
     md = open(os.path.join(out, "readings.md")).read()
     check(len(rd) == 9 and all(x["scene"] == "room" for x in rd) and not any(m in md for m in ("✓", "✗", " ~")),
           f"readings: the 9 combinations for the room ({len(rd)} rows), no marks against the paper")
+    # anatomy: every combination of ANATOMY_GRID and every workload change, at every FIFO depth; the
+    # ratio and flat marks follow from the speedups; the anatomy's shares are shares; one speedup by hand.
+    an = rows(os.path.join(out, "anatomy.csv"))
+    an_combos = 1
+    for _, v in exp.ANATOMY_GRID:
+        an_combos *= len(v)
+    k_mid, k_max = sorted(QUICK_ICCS)[-2], max(QUICK_ICCS)
+    check(len(an) == (an_combos + len(exp.ANATOMY_WORKLOAD)) * len(QUICK_FIFOS),
+          f"anatomy.csv: {len(an)} rows, ({an_combos} combinations + {len(exp.ANATOMY_WORKLOAD)} workload changes) x "
+          f"{len(QUICK_FIFOS)} FIFO depths")
+    bad = [x for x in an if abs(float(x["ratio"]) - float(x[f"speedup{k_max}"]) / float(x[f"speedup{k_mid}"])) > 0.01
+           or (x["flat"] == "True") != (float(x["ratio"]) <= exp.FLAT)
+           or not 0 <= float(x[f"held_share{k_max}"]) <= 1 or not 0 <= float(x[f"alone_share{k_max}"]) <= 1
+           or (float(x[f"held_share{k_max}"]) > 0 and float(x[f"mean_holders{k_max}"]) < 1)]
+    check(not bad, f"anatomy.csv: ratios, flat marks and shares consistent ({len(bad)} rows not)")
+    x = next(x for x in an if x["what"] == "grid" and x["icc.triangle_select"] == "any" and
+             x["link.stall_latency_per_icc"] != "0" and x["link.resume_occupancy"] == "0" and
+             x["workload.group_order"] == "random" and int(x["fifo_depth"]) == min(QUICK_FIFOS))
+    sets = [f"{k}={x[k]}" for k, _ in exp.ANATOMY_GRID]
+    one = simulate(["--mesh", mesh], 1, max(QUICK_FIFOS), [s for s in sets if "per_icc" not in s and "order" not in s])
+    most = simulate(["--mesh", mesh], k_max, min(QUICK_FIFOS), sets)
+    check(one and most and abs(one / most - float(x[f"speedup{k_max}"])) < 0.001,
+          f"anatomy.csv: the speedup at {k_max} ICCs, FIFO {min(QUICK_FIFOS)}, stall latency "
+          f"{x['link.stall_latency_per_icc']} per ICC: {x[f'speedup{k_max}']}, by hand {one / most if most else 0:.3f}")
     rt = rows(os.path.join(out, "realtime.csv"))
     ck = rows(os.path.join(out, "realtime_check.csv"))
     check(len(rt) == 4 and all(float(x["frame_ms"]) > 0 and x["embree_rays_ms"] == "" for x in rt) and len(ck) == 2,

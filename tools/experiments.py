@@ -13,6 +13,8 @@ on any scene:
   fifo         the smallest FIFO depth that keeps 90 % efficiency at 16, 48, 256 and 1,024 ICCs
                (over 1 ICC at the deepest FIFO; 256 and 1,024 ICCs on 128x128 and 256x256) and
                the SRAM per ICC it costs, per scene and combination of the open choices (FIFO_GRID)
+  anatomy      Figure 8's FIFO question: the stall anatomy over a grid of the open choices that decide how
+               the ICCs' stalls combine, a closed form for the speedup ratio and what flat curves need
   readings     every paper result under each combination of the open choices
   realtime     720p and 1080p frames at 16/256/4096 ICCs (sampled), ICCs for 30 frames/s, Embree
   sensitivity  Figure 8 with the RTI or the work per group changed (the paper's scenes)
@@ -133,7 +135,7 @@ QUICK_PLAN = {
     "cpu_runs": 1,
 }
 # Experiments that take any scene; the others are made for particular shipped scenes.
-ANY_SCENE = ["fig8", "fig9", "fig10", "table5", "beyond", "fifo", "readings", "realtime"]
+ANY_SCENE = ["fig8", "fig9", "fig10", "table5", "beyond", "fifo", "anatomy", "readings", "realtime"]
 
 
 class Plan:
@@ -1905,8 +1907,151 @@ def realtime(c):
     log(f"wrote {c.out('realtime.png')}, realtime.csv, realtime_check.csv, realtime.md")
 
 
+# ---- The FIFO question: the stall anatomy and the condition for flat curves -----------
+
+# The open choices that decide how the ICCs' stalls combine (docs/MODEL.md §3), as a grid: every
+# combination runs 1, 16 and 48 ICCs (the plan's) at every FIFO depth. "max" for the stall latency
+# per ICC is the largest the plan allows: the smallest FIFO minus one at the most ICCs.
+ANATOMY_GRID = [
+    ("icc.triangle_select", ["any", "both"]),
+    ("workload.group_order", ["pixel", "random"]),
+    ("link.stall_latency_per_icc", [0, "max"]),
+    ("link.resume_occupancy", [-1, 0]),
+]
+# What the scene would have to change (one key at a time, under the default choices).
+ANATOMY_WORKLOAD = [
+    ("tps4", "4 triangles per sphere", ["spheres.triangles_per_sphere=4"]),
+    ("tps8", "8 triangles per sphere", ["spheres.triangles_per_sphere=8"]),
+    ("rdf4", "4 Fetcher cycles per pair-less triangle", ["icc.rdf_empty_cycles=4"]),
+]
+FLAT = 1.25  # the fit table's "flat": the speedup at the most ICCs at most 1.25 times the one at the middle count
+
+
+def flat_factor(p_mid, p_max, k_mid, k_max):
+    """The per-ICC hold x (cycles a pass, not shared with another ICC) over A (the pass's other
+    cycles) at which the speedup ratio max/mid of C = passes x (A + K x) falls to FLAT."""
+    # passes_mid (A + k_mid x) <= FLAT passes_max (A + k_max x)
+    den = FLAT * p_max * k_max - p_mid * k_mid
+    return (p_mid - FLAT * p_max) / den if den > 0 else float("inf")
+
+
+def anatomy(c):
+    """Figure 8's FIFO question. Per combination of ANATOMY_GRID and FIFO depth: the speedups at the
+    middle and largest ICC counts and their ratio (flat: at most FLAT), the stall anatomy (held share
+    of the cycles, mean number of ICCs holding a held cycle, alone share), and the closed form: a pass
+    of K ICCs takes A + K x cycles, A the cycles no FIFO held and x the cycles an ICC's FIFO held the
+    link not shared with another (the held cycles over K); with A and x measured at the middle count
+    it predicts the largest count's cycles, and the curve is flat once x / A reaches flat_factor. Also
+    the fit table's FIFO 1000 and Table 5 checks, so that a combination that flattens the curves is
+    seen to keep them."""
+    import itertools
+    import matplotlib.pyplot as plt
+    p = c.plan
+    km, kx, F, small = p.kmid, p.kmax, p.fbig, [f for f in p.fifos if f != p.fbig]
+    lat_max = (min(p.fifos) - 1) / kx
+    rows = []
+
+    def tag(sets):
+        return "_".join(x.split("=")[0].split(".")[-1] + "-" + x.split("=")[1].replace(".", "p").replace("-", "m")
+                        for x in sets)
+
+    def one(name, what, values, sets):
+        # (one ICC: no stall latency per ICC below 1/ICC, and the group order changes nothing)
+        bsets = [x for x in sets if not x.startswith(("link.stall_latency_per_icc=", "workload.group_order="))]
+        base = c.sweep(f"anatomy_base_{tag(bsets)}", [1], p.fifos, bsets, raw=True)
+        st = c.sweep(f"anatomy_{name}", [km, kx], p.fifos, sets, raw=True)
+        for s in c.inputs:
+            one_big = base[(s.key, 1, F)]
+            t5 = one_big["total_cycles"] / (one_big["passes"] * one_big["triangles"]) - 1
+            e_big = one_big["total_cycles"] / st[(s.key, kx, F)]["total_cycles"] / kx
+            for f in p.fifos:
+                b1, rm, rx = base[(s.key, 1, F)], st[(s.key, km, f)], st[(s.key, kx, f)]
+                sm, sx = b1["total_cycles"] / rm["total_cycles"], b1["total_cycles"] / rx["total_cycles"]
+                pm, px = rm["passes"], rx["passes"]
+                held_m = rm["triangle_link_fifo_held_cycles"] / pm
+                A = rm["total_cycles"] / pm - held_m
+                x = held_m / km
+                pred = rm["total_cycles"] / (px * (A + kx * x))
+                need = flat_factor(pm, px, km, kx)
+                hx = rx["triangle_link_fifo_held_cycles"]
+                r = {"scene": s.key, "combination": name, "what": what, **values, "fifo_depth": f,
+                     f"speedup{km}": round(sm, 3), f"speedup{kx}": round(sx, 3), "ratio": round(sx / sm, 3),
+                     "flat": sx / sm <= FLAT, "ratio_predicted": round(pred, 3),
+                     f"held_share{km}": round(rm["triangle_link_fifo_held_cycles"] / rm["total_cycles"], 4),
+                     f"held_share{kx}": round(hx / rx["total_cycles"], 4),
+                     f"mean_holders{km}": round(rm["blocked_triangle_fifo_full"] / max(1, rm["triangle_link_fifo_held_cycles"]), 3),
+                     f"mean_holders{kx}": round(rx["blocked_triangle_fifo_full"] / max(1, hx), 3),
+                     f"alone_share{kx}": round(rx["triangle_link_held_alone_cycles"] / max(1, hx), 4),
+                     "A_per_pass": round(A, 1), "x_per_pass": round(x, 2), "x_over_A": round(x / A, 5),
+                     "x_over_A_for_flat": round(need, 5), "factor_for_flat": round(need / (x / A), 2) if x else "",
+                     f"efficiency{kx}_fifo{F}": round(e_big, 4), "t5_one_icc_over_passes_t": round(t5, 4)}
+                rows.append(r)
+
+    keys = [k for k, _ in ANATOMY_GRID]
+    for combo in itertools.product(*[v for _, v in ANATOMY_GRID]):
+        values = dict(zip(keys, combo))
+        if values["link.stall_latency_per_icc"] == "max":
+            values["link.stall_latency_per_icc"] = round(lat_max, 6)
+        sets = [f"{k}={v}" for k, v in values.items()]
+        one(tag(sets), "grid", values, sets)
+    for name, what, sets in ANATOMY_WORKLOAD:
+        values = {k: v[0] for k, v in ANATOMY_GRID}
+        one(name, what, values, [f"{k}={v}" for k, v in values.items()] + sets)
+    write_csv(c.out("anatomy.csv"), rows)
+
+    # The plot: predicted against measured ratios (the closed form), and the held share against
+    # the mean number of holders at the largest count, per FIFO depth.
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.5))
+    marks = {f: m for f, m in zip(p.fifos, "os^dv")}
+    for f in p.fifos:
+        g = [r for r in rows if r["fifo_depth"] == f and r["what"] == "grid"]
+        a1.scatter([r["ratio"] for r in g], [r["ratio_predicted"] for r in g], marker=marks[f], label=f"FIFO {f}")
+        a2.scatter([r[f"mean_holders{kx}"] for r in g], [100 * r[f"held_share{kx}"] for r in g], marker=marks[f],
+                   label=f"FIFO {f}")
+    lim = [0.9, max([r["ratio"] for r in rows] + [r["ratio_predicted"] for r in rows]) * 1.05]
+    a1.plot(lim, lim, "k:", lw=0.8)
+    a1.axvline(FLAT, color="tab:red", lw=0.8, label=f"flat: {FLAT}")
+    a1.set_xlabel(f"measured: speedup at {kx} ICCs / at {km}")
+    a1.set_ylabel(f"closed form from the {km}-ICC anatomy")
+    a1.set_title("The closed form against the model", fontsize=10)
+    a2.set_xlabel(f"mean ICCs holding a held cycle, {kx} ICCs")
+    a2.set_ylabel(f"cycles held by a Triangle FIFO, % ({kx} ICCs)")
+    a2.set_title("How the ICCs' stalls combine", fontsize=10)
+    for a in (a1, a2):
+        a.grid(alpha=0.3)
+        a.legend(fontsize=7)
+    suptitle(fig, "Stall anatomy over the open choices (" + ", ".join(k for k, _ in ANATOMY_GRID) + ")" + c.note(),
+             fontsize=9)
+    save_png(fig, c.out("anatomy.png"))
+
+    t = []
+    for r in rows:
+        if r["fifo_depth"] == F:
+            continue
+        t.append([c.input(r["scene"]).label, r["what"] if r["what"] != "grid" else " ".join(
+            f"{v}" for v in [r[k] for k in keys]), r["fifo_depth"], f"{r[f'speedup{km}']:.1f}",
+            f"{r[f'speedup{kx}']:.1f}", f"{r['ratio']:.2f}" + (" ✓" if r["flat"] else ""), f"{r['ratio_predicted']:.2f}",
+            f"{100 * r[f'held_share{kx}']:.0f} %", f"{r[f'mean_holders{kx}']:.2f}", f"{r['x_over_A']:.4f}",
+            f"{r['factor_for_flat']}", f"{100 * r[f'efficiency{kx}_fifo{F}']:.0f} %",
+            f"{100 * r['t5_one_icc_over_passes_t']:+.1f} %"])
+    md = ((c.scenes_line(pixels=False) if c.user else "") +
+          f"Per combination ({', '.join(f'`{k}`' for k in keys)}; the stall latency per ICC `max` = "
+          f"{lat_max:.4f}, the largest the smallest FIFO allows at {kx} ICCs) and FIFO depth: the speedups over "
+          f"1 ICC at FIFO {F}, their ratio ({kx} over {km} ICCs; ✓ flat: at most {FLAT}), the closed form's "
+          f"ratio from the {km}-ICC run, the share of the {kx}-ICC run's cycles a Triangle FIFO held the link, "
+          f"the mean number of ICCs holding such a cycle, x / A (an ICC's unshared hold over the pass's other "
+          f"cycles, at {km} ICCs), the factor x / A must grow by for a flat curve, and the fit table's checks "
+          f"that must keep: FIFO {F} at {kx} ICCs (90 % or more), Table 5's 1-ICC cycles over passes x "
+          f"triangles (0 to +2.5 %). `anatomy.csv` has every figure, FIFO {F} too.\n\n" +
+          md_table(["scene", "combination", "FIFO", f"speedup {km}", f"speedup {kx}", f"{kx}/{km}",
+                    "closed form", f"held, {kx} ICCs", "mean holders", "x / A", "x / A must grow", f"FIFO {F}, {kx} ICCs",
+                    "T5 1 ICC"], t))
+    write_text(c.out("anatomy.md"), md)
+    log(f"wrote {c.out('anatomy.png')}, anatomy.csv, anatomy.md")
+
+
 STEPS = {"fig8": fig8, "fig9": fig9, "fig10": fig10, "table5": table5, "beyond": beyond, "fifo": fifo,
-         "sensitivity": sensitivity, "readings": readings, "conjecture": conjecture,
+         "anatomy": anatomy, "sensitivity": sensitivity, "readings": readings, "conjecture": conjecture,
          "animations": animations, "realtime": realtime}
 
 
