@@ -19,22 +19,15 @@ import subprocess
 import sys
 import tempfile
 
-from testlib import finish, small_scenes, FOLLOW_WORKLOAD
+from testlib import Checks, small_scenes, FOLLOW_WORKLOAD
 
 raplas, root = sys.argv[1], os.path.abspath(sys.argv[2])
 # configurations per scene: 4; the sanitizer build passes fewer (tests/CMakeLists.txt)
 points_per_scene = int(sys.argv[3]) if len(sys.argv) > 3 else 4
 scenes = small_scenes(root)
 
-failures = checks = 0
 
-
-def check(ok, what):
-    global failures, checks
-    checks += 1
-    if not ok:
-        failures += 1
-        print("FAIL " + what)
+check = Checks()
 
 
 def run(tmp, trace, args):
@@ -108,5 +101,4 @@ with tempfile.TemporaryDirectory() as tmp:
         cells = dict(zip(header.split(","), row.split(",")))
         check(cells.get("estimate") == est, f"CSV estimate column: {cells.get('estimate')} for sim.estimate={est}")
 
-print(f"{checks - failures}/{checks} checks passed")
-finish(failures)
+check.finish()

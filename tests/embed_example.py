@@ -17,14 +17,11 @@ import sys
 import tempfile
 import time
 
-failures = []
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from testlib import Checks
 
 
-def check(ok, what):
-    print(("ok   " if ok else "FAIL ") + what)
-    if not ok:
-        failures.append(what)
-    return ok
+check = Checks()
 
 
 def run(cmd, **kw):
@@ -95,8 +92,8 @@ def main():
         check(sum(line.startswith("ray (") for line in lines) == 16, "it prints the 16 rays' hits")
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
-    print(f"{len(failures)} failed" if failures else "the example builds and passes against the installed raplas")
-    return 1 if failures else 0
+    print(f"{check.failures} failed" if check.failures else "the example builds and passes against the installed raplas")
+    return 1 if check.failures else 0
 
 
 if __name__ == "__main__":

@@ -10,7 +10,7 @@ import subprocess
 import sys
 import tempfile
 
-from testlib import PROVENANCE, provenance_diff, FOLLOW_WORKLOAD
+from testlib import Checks, PROVENANCE, provenance_diff, FOLLOW_WORKLOAD
 
 raplas = sys.argv[1]
 base = ["simulate", "--config", "paper", *FOLLOW_WORKLOAD, "--iccs", "4", "--fifo", "10",
@@ -26,13 +26,7 @@ def run(tmp, *extra):
     return j
 
 
-failures = 0
-
-
-def check(ok, what):
-    global failures
-    print(("ok   " if ok else "FAIL ") + what)
-    failures += not ok
+check = Checks()
 
 
 with tempfile.TemporaryDirectory() as tmp:
@@ -80,5 +74,4 @@ with tempfile.TemporaryDirectory() as tmp:
               k["workload_hash"] != j["workload_hash"], f"{frac}/{seed}: its workload covers the traced groups")
         err = (j["total_cycles"] - exact["total_cycles"]) / exact["total_cycles"]
         print(f"     error {100 * err:+.2f} % (exact {exact['total_cycles']}), half-width {100 * ci / exact['total_cycles']:.2f} %")
-print(f"{failures} failed")
-sys.exit(1 if failures else 0)
+check.finish()

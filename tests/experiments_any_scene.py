@@ -28,6 +28,9 @@ import subprocess
 import sys
 import tempfile
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from testlib import Checks
+
 
 def make_room():
     """The OBJ text: a 2 x 1 x 2 room (floor, back, left and right walls; open at +z and at the
@@ -79,14 +82,9 @@ exp = importlib.util.module_from_spec(spec)  # its grids (FIFO_GRID, QUICK_PLAN)
 spec.loader.exec_module(exp)
 mesh = os.path.join(root, "tests", "scenes", "room.obj")
 QUICK_SIZE, QUICK_ICCS, QUICK_FIFOS = 16, [1, 2, 4], [10, 1000]
-failures = 0
 
 
-def check(cond, what):
-    global failures
-    print(("ok   " if cond else "FAIL ") + what, flush=True)
-    failures += not cond
-    return cond
+check = Checks()
 
 
 def experiments(args, cwd=None):
@@ -387,5 +385,4 @@ with tempfile.TemporaryDirectory() as tmp:
               not os.path.exists(os.path.join(tmp, "nodir")),
               f"{' '.join(a if not a.startswith(tmp) else os.path.basename(a) for a in args)}: exit {p.returncode}, "
               f"{lines[-1] if lines else ''}")
-print(f"{failures} failed")
-sys.exit(1 if failures else 0)
+check.finish()

@@ -21,18 +21,15 @@ import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import testlib  # noqa: E402
+from testlib import Checks
 
 raplas = os.path.abspath(sys.argv[1])
 scene = ["--set", "image.width=24", "--set", "image.height=24", "--set", "groups.size=8", "--set",
          "groups.shadow_size=8", "--set", "builtin_detail=2"]
 config = ["--iccs", "3", "--fifo", "8"]
-failures = 0
 
 
-def check(ok, what):
-    global failures
-    print(("ok   " if ok else "FAIL ") + what)
-    failures += not ok
+check = Checks()
 
 
 def run(args, cwd, expect=0):
@@ -152,4 +149,4 @@ with tempfile.TemporaryDirectory() as d:
     else:
         print("SKIP: GNU parallel is missing: the job list was not run")
 
-sys.exit(1 if failures else 0)
+check.finish()

@@ -13,19 +13,15 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from testlib import FOLLOW_WORKLOAD, json_diff
+from testlib import Checks, FOLLOW_WORKLOAD, json_diff
 
 raplas = sys.argv[1]
 ORDERS = ["pixel", "random", "morton", "strided"]
 SCENE = ["--set", "image.width=24", "--set", "image.height=24", "--set", "groups.size=4", "--set",
          "groups.shadow_size=4", "--set", "builtin_detail=2"]
-failures = 0
 
 
-def check(ok, what):
-    global failures
-    print(("ok   " if ok else "FAIL ") + what)
-    failures += not ok
+check = Checks()
 
 
 def simulate(tmp, *args):
@@ -73,4 +69,4 @@ with tempfile.TemporaryDirectory() as tmp:
     jobs = simulate(tmp, *SCENE, "--iccs", "6", "--fifo", "4", "--set", "workload.group_order=random", "--jobs", "2")
     d = json_diff(jobs, many["random"], {"wall"})
     check(not d, "random: --jobs 2 = the whole run" + ("" if not d else ": " + "; ".join(d[:3])))
-sys.exit(1 if failures else 0)
+check.finish()

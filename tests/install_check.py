@@ -19,13 +19,11 @@ import subprocess
 import sys
 import tempfile
 
-failures = []
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from testlib import Checks
 
 
-def check(ok, what):
-    print(("ok   " if ok else "FAIL ") + what)
-    if not ok:
-        failures.append(what)
+check = Checks()
 
 
 def main():
@@ -103,8 +101,8 @@ def main():
               f"--config papr lists the prefix's configs: {r.stderr.strip()}")
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
-    print(f"{len(failures)} failed" if failures else "installed raplas finds its configs and scenes")
-    return 1 if failures else 0
+    print(f"{check.failures} failed" if check.failures else "installed raplas finds its configs and scenes")
+    return 1 if check.failures else 0
 
 
 if __name__ == "__main__":

@@ -13,20 +13,19 @@ import subprocess
 import sys
 import tempfile
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from testlib import Checks
+
 root = os.path.abspath(sys.argv[1])
 tool = os.path.join(root, "tools", "plot_sweep.py")
 table = os.path.join(root, "tests", "golden", "sweep_builtin.csv")
-failures = 0
 
 
 def run(args):
     return subprocess.run([sys.executable, tool] + args, capture_output=True, text=True)
 
 
-def check(cond, what):
-    global failures
-    print(("ok   " if cond else "FAIL ") + what)
-    failures += not cond
+check = Checks()
 
 
 def plot(tmp, name, args):
@@ -186,5 +185,4 @@ with tempfile.TemporaryDirectory() as tmp:
         lines = p.stderr.strip().splitlines()
         check(p.returncode == 2 and needle in p.stderr and not os.path.exists(out),
               f"{' '.join(args[1:])}: exit {p.returncode}, {lines[-1] if lines else ''}")
-print(f"{failures} failed")
-sys.exit(1 if failures else 0)
+check.finish()

@@ -16,6 +16,7 @@ import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import testlib  # noqa: E402
+from testlib import Checks
 
 raplas = os.path.abspath(sys.argv[1])
 scene = ["--set", "image.width=24", "--set", "image.height=24", "--set", "groups.size=8", "--set", "groups.shadow_size=8"]
@@ -38,13 +39,8 @@ if not gnu_parallel():
     print("SKIP: GNU parallel is missing (Debian's parallel, tools/install-deps.sh): the job lists were not run")
     sys.exit(testlib.SKIP_EXIT)
 
-failures = 0
 
-
-def check(ok, what):
-    global failures
-    print(("ok   " if ok else "FAIL ") + what)
-    failures += not ok
+check = Checks()
 
 
 def sh(cmd, cwd):
@@ -83,5 +79,4 @@ with tempfile.TemporaryDirectory() as tmp:
         before = open(os.path.join(tmp, "out.csv")).read()
         check(sh("parallel < jobs.traces && parallel < jobs && sh jobs.merge", tmp)
               and open(os.path.join(tmp, "out.csv")).read() == before, "the job lists run again give the same result")
-print(f"{failures} failed")
-sys.exit(1 if failures else 0)
+check.finish()

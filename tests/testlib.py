@@ -131,7 +131,7 @@ class Checks:
     def __call__(self, ok, what):
         self.count += 1
         self.failures += not ok
-        print(("ok   " if ok else "FAIL ") + what)
+        print(("ok   " if ok else "FAIL ") + what, flush=True)
         return ok
 
     def finish(self):

@@ -8,14 +8,11 @@ import subprocess
 import sys
 import tempfile
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from testlib import Checks  # noqa: E402
+
 raplas, root = sys.argv[1], sys.argv[2]
-failures = 0
-
-
-def check(ok, what):
-    global failures
-    print(("ok   " if ok else "FAIL ") + what)
-    failures += not ok
+check = Checks()
 
 
 with tempfile.TemporaryDirectory() as tmp:
@@ -49,4 +46,4 @@ with tempfile.TemporaryDirectory() as tmp:
     bad = subprocess.run([os.path.join(root, "tools", "vcd_plot.py"), vcd, "--signal",
                           "raplas.icc_9.nothing", "--out", png], capture_output=True, text=True)
     check(bad.returncode != 0 and "no signal raplas.icc_9.nothing" in bad.stderr, "an unknown signal is named")
-sys.exit(1 if failures else 0)
+check.finish()
