@@ -1528,6 +1528,7 @@ def readings(c):
           f"\nThe same, one cell per result ({' / '.join(PLAIN[s.paper] if s.paper else s.label for s in ins)}; "
           f"F8 flat: the smaller of the FIFO {' and FIFO '.join(map(str, small)) or '–'} ratios of the speedups at "
           f"{K} and {M} ICCs):\n\n" + condensed)
+    md += anatomy_fit(c, anatomy(c))
     write_text(os.path.join(c.a.out, "readings.md"), md)
     log("wrote readings.csv, readings.md" + (f" (best fit: {best[1]}, {best[0]} cells)" if n_marked else ""))
 
@@ -2048,6 +2049,37 @@ def anatomy(c):
                     "T5 1 ICC"], t))
     write_text(c.out("anatomy.md"), md)
     log(f"wrote {c.out('anatomy.png')}, anatomy.csv, anatomy.md")
+    return rows
+
+
+def anatomy_fit(c, rows):
+    """The fit table's Figure 8 and Table 5 cells over ANATOMY_GRID (readings.md): per combination, the
+    efficiency at the most ICCs with the deepest FIFO, the speedup ratios of the smaller FIFOs, the 1-ICC
+    cycles over passes x triangles, and how many of them pass the fit table's tolerances."""
+    p = c.plan
+    km, kx, F = p.kmid, p.kmax, p.fbig
+    keys = [k for k, _ in ANATOMY_GRID]
+    by = {}
+    for r in rows:
+        if r["what"] == "grid":
+            by.setdefault(tuple(r[k] for k in keys), {}).setdefault(r["scene"], {})[r["fifo_depth"]] = r
+    t = []
+    for combo, scenes in by.items():
+        cells, ok = [], 0
+        for s in c.inputs:
+            d = scenes[s.key]
+            e = d[F][f"efficiency{kx}_fifo{F}"]
+            flats = [d[f]["ratio"] for f in p.fifos if f != F]
+            t5 = d[F]["t5_one_icc_over_passes_t"]
+            ok += (e >= 0.9) + sum(x <= FLAT for x in flats) + (0 <= t5 <= 0.025)
+            cells.append(f"{100 * e:.0f} % / " + " / ".join(f"{x:.2f}" for x in flats) + f" / {100 * t5:+.1f} %")
+        t.append([" ".join(str(v) for v in combo)] + cells + [f"{ok}/{len(c.inputs) * (len(p.fifos) + 1)}"])
+    return ("\n## Figure 8 and Table 5 over the FIFO keys\n\n"
+            f"Every combination of {', '.join(f'`{k}`' for k in keys)} (`anatomy.md`, `anatomy.csv`), per scene: "
+            f"the efficiency at {kx} ICCs with FIFO {F} (pass: 90 % or more), the ratio of the speedups at {kx} "
+            f"and {km} ICCs with FIFO {', '.join(str(f) for f in p.fifos if f != F)} (pass, flat: at most {FLAT}), "
+            f"and Table 5's 1-ICC cycles over passes x triangles (pass: 0 to +2.5 %).\n\n" +
+            md_table(["combination"] + [c.input(s.key).label for s in c.inputs] + ["pass"], t))
 
 
 STEPS = {"fig8": fig8, "fig9": fig9, "fig10": fig10, "table5": table5, "beyond": beyond, "fifo": fifo,
