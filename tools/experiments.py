@@ -2003,12 +2003,17 @@ def anatomy(c):
     # The plot: predicted against measured ratios (the closed form), and the held share against
     # the mean number of holders at the largest count, per FIFO depth.
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.5))
-    marks = {f: m for f, m in zip(p.fifos, "os^dv")}
-    for f in p.fifos:
-        g = [r for r in rows if r["fifo_depth"] == f and r["what"] == "grid"]
-        a1.scatter([r["ratio"] for r in g], [r["ratio_predicted"] for r in g], marker=marks[f], label=f"FIFO {f}")
-        a2.scatter([r[f"mean_holders{kx}"] for r in g], [100 * r[f"held_share{kx}"] for r in g], marker=marks[f],
-                   label=f"FIFO {f}")
+    # colour: the FIFO depth; marker: the scene
+    colours = {f: col for f, col in zip(p.fifos, ["tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple"])}
+    marks = {s.key: m for s, m in zip(c.inputs, "os^dvP*X")}
+    for s in c.inputs:
+        for f in p.fifos:
+            g = [r for r in rows if r["fifo_depth"] == f and r["what"] == "grid" and r["scene"] == s.key]
+            lab = f"{s.label}, FIFO {f}"
+            a1.scatter([r["ratio"] for r in g], [r["ratio_predicted"] for r in g], marker=marks[s.key],
+                       color=colours[f], s=22, label=lab)
+            a2.scatter([r[f"mean_holders{kx}"] for r in g], [100 * r[f"held_share{kx}"] for r in g],
+                       marker=marks[s.key], color=colours[f], s=22, label=lab)
     lim = [0.9, max([r["ratio"] for r in rows] + [r["ratio_predicted"] for r in rows]) * 1.05]
     a1.plot(lim, lim, "k:", lw=0.8)
     a1.axvline(FLAT, color="tab:red", lw=0.8, label=f"flat: {FLAT}")
@@ -2020,9 +2025,8 @@ def anatomy(c):
     a2.set_title("How the ICCs' stalls combine", fontsize=10)
     for a in (a1, a2):
         a.grid(alpha=0.3)
-        a.legend(fontsize=7)
-    suptitle(fig, "Stall anatomy over the open choices (" + ", ".join(k for k, _ in ANATOMY_GRID) + ")" + c.note(),
-             fontsize=9)
+        a.legend(fontsize=6)
+    suptitle(fig, "Stall anatomy over the open choices (" + ", ".join(k for k, _ in ANATOMY_GRID) + ")", fontsize=9)
     save_png(fig, c.out("anatomy.png"))
 
     t = []
