@@ -217,17 +217,17 @@ with tempfile.TemporaryDirectory() as tmp:
     # answer the smallest depth of the ladder reaching the target, consistent with the points tried.
     grid = [(key, [str(v).lower() if isinstance(v, bool) else str(v) for v in values])
             for key, values, _ in exp.FIFO_GRID]
-    combos = 1
-    for _, values in grid:
-        combos *= len(values)
+    # (the combinations the model allows: a stall latency only under any_full)
+    allowed = [x for x in itertools.product(*[v for _, v in grid])
+               if exp.fifo_combination_allowed(dict(zip([k for k, _ in grid], x)))]
+    combos = len(allowed)
     plan_k = {k: QUICK_SIZE * scale for k, scale in exp.QUICK_PLAN["fifo_iccs"]}
     ladder, target = exp.QUICK_PLAN["fifo_depths"], exp.QUICK_PLAN["fifo_target"]
     ans = rows(os.path.join(out, "fifo.csv"))
     pts = rows(os.path.join(out, "fifo_points.csv"))
     cells = {(a["combination"], int(a["iccs"])): a for a in ans}
     check(len(ans) == combos * len(plan_k) == len(cells) and
-          {tuple(a[key] for key, _ in grid) for a in ans} == {tuple(x) for x in itertools.product(
-              *[v for _, v in grid])} and all(int(a["image"]) == plan_k[int(a["iccs"])] for a in ans),
+          {tuple(a[key] for key, _ in grid) for a in ans} == set(allowed) and all(int(a["image"]) == plan_k[int(a["iccs"])] for a in ans),
           f"fifo.csv: {len(ans)} answers, the {combos} combinations of {[k for k, _ in grid]} x ICCs "
           f"{sorted(plan_k)} on images {plan_k}")
     tried = {}
@@ -241,15 +241,17 @@ with tempfile.TemporaryDirectory() as tmp:
     consistent, reached = True, 0
     for key, a in cells.items():
         t = tried.get(key, {})
+        # the ladder's depths this combination allows at this ICC count (deeper than its stall latency)
+        lad = [d for d in ladder if exp.fifo_depth_allowed({k: a[k] for k, _ in grid}, key[1], d)]
         d = int(a["smallest_depth"]) if a["smallest_depth"] else None
         if d is not None:
             reached += 1
-            i = ladder.index(d)
+            i = lad.index(d)
             ok = (d in t and t[d]["meets_target"] == "True" and
                   all(t[e]["meets_target"] == "False" for e in t if e < d) and
-                  (i == 0 or ladder[i - 1] in t) and a["limited_by"] == "")
+                  (i == 0 or lad[i - 1] in t) and a["limited_by"] == "" and all(e in lad for e in t))
         elif a["limited_by"] == "depth":
-            ok = max(ladder) in t and all(x["meets_target"] == "False" for x in t.values())
+            ok = max(lad) in t and all(x["meets_target"] == "False" for x in t.values())
         else:
             ok = not t and float(a["ceiling_unbounded_fifos"]) < target and a["limited_by"] in (
                 "group count", "RTI work", "triangle stream")

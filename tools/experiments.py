@@ -959,11 +959,31 @@ def beyond(c):
 # keeps the runs already made for the combinations that leave it at its default. A key that cannot change
 # a 1-ICC run (passes not overlapped: every pass is one group alone, whatever the order) shares the base
 # run among its values. workload.group_order = strided is left out: it behaves as random (docs/RESULTS.md).
+# A stall latency (docs/MODEL.md §3) needs a Triangle FIFO deeper than it: the depths it rules out at an
+# ICC count are not tried (fifo_depth_allowed). The stall latency per ICC is the anatomy step's (9 cycles
+# at 48 ICCs, 48 at 256, 192 at 1,024: one stage for about five ICCs), below one cycle at 1 ICC; it needs
+# link.stall_policy = any_full, so its combinations with needed_full are left out.
 FIFO_GRID = [
     ("icc.triangle_select", ["any", "both"], True),
     ("workload.group_order", ["pixel", "morton", "random"], False),
     ("link.stall_policy", ["any_full", "needed_full"], True),
+    ("link.stall_latency_per_icc", [0.0, 0.1875], False),
 ]
+
+
+def fifo_depth_allowed(values, k, d):
+    """Whether a FIFO of depth d is a machine the combination `values` allows at k ICCs: deeper than
+    its stall latency, and with room for its resume occupancy below the hold."""
+    latency = int(float(values.get("link.stall_latency", 0)) +
+                  int(float(values.get("link.stall_latency_per_icc", 0)) * k * (1 + 1e-12)))
+    resume = int(values.get("link.resume_occupancy", -1))
+    return d > latency and (resume < 0 or resume < d - latency)
+
+
+def fifo_combination_allowed(values):
+    """A stall latency needs link.stall_policy = any_full (the model refuses it under needed_full)."""
+    latent = float(values.get("link.stall_latency", 0)) > 0 or float(values.get("link.stall_latency_per_icc", 0)) > 0
+    return not (latent and values.get("link.stall_policy", "any_full") != "any_full")
 
 
 _CONFIG_DUMPS = {}
@@ -1032,7 +1052,8 @@ def fifo_combinations(c):
         axes.append((key, text))
     import itertools
     return [FifoCombination(dict(zip([k for k, _ in axes], combo)), defaults, one_icc)
-            for combo in itertools.product(*[v for _, v in axes])]
+            for combo in itertools.product(*[v for _, v in axes])
+            if fifo_combination_allowed(dict(zip([k for k, _ in axes], combo)))]
 
 
 def fifo_sram(cfg, depth, group_size):
@@ -1120,16 +1141,17 @@ def fifo(c):
         for k in sizes[size]:
             b = bound[(cb.name, size, s.key, k, dmax)]
             tried = {}
-            lo, hi = -1, len(D)  # D[lo] misses the target (or lo = -1), D[hi] meets it (or hi = len(D))
+            Dk = [d for d in D if fifo_depth_allowed(cb.values, k, d)]  # (the depths this machine allows)
+            lo, hi = -1, len(Dk)  # Dk[lo] misses the target (or lo = -1), Dk[hi] meets it (or hi = len(Dk))
             if b1["total_cycles"] / b["total_cycles"] / k >= p.fifo_target:
                 while hi - lo > 1:
                     mid = (lo + hi) // 2
-                    r = tried[D[mid]] = point(cb.name, cb.sets, size, s, k, D[mid])
+                    r = tried[Dk[mid]] = point(cb.name, cb.sets, size, s, k, Dk[mid])
                     if b1["total_cycles"] / r["total_cycles"] / k >= p.fifo_target:
                         hi = mid
                     else:
                         lo = mid
-            out.append((k, b1, b, tried, D[hi] if hi < len(D) else None))
+            out.append((k, b1, b, tried, Dk[hi] if hi < len(Dk) else None))
         return out
 
     cells = [(cb, size, s) for cb in combos for size in sizes for s in c.inputs]
