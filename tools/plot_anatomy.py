@@ -37,9 +37,10 @@ import os
 import sys
 import tempfile
 
+from plot_common import need_matplotlib  # (beside this script)
+
 PROG = "plot_anatomy.py"
 WIDE = 256  # more ICCs than this: the per-ICC panel draws steps, not bars
-SYSTEM_PYTHON = "/usr/bin/python3"
 
 
 def fail(msg, code=2):
@@ -52,24 +53,6 @@ class Parser(argparse.ArgumentParser):
 
     def error(self, message):
         fail(message)
-
-
-def need_matplotlib():
-    """matplotlib.pyplot with the Agg backend, or a re-execution with the
-    system interpreter, which has Debian's python3-matplotlib."""
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        return plt
-    except ImportError:
-        here = os.path.realpath(sys.executable or "")
-        if os.path.exists(SYSTEM_PYTHON) and here != os.path.realpath(SYSTEM_PYTHON) \
-                and not os.environ.get("RAPLAS_PLOT_REEXEC"):
-            os.environ["RAPLAS_PLOT_REEXEC"] = "1"
-            os.execv(SYSTEM_PYTHON, [SYSTEM_PYTHON, os.path.abspath(__file__)] + sys.argv[1:])
-        fail(f"matplotlib is missing for {sys.executable} (Debian: apt-get install python3-matplotlib, "
-             f"or run tools/install-deps.sh)", code=1)
 
 
 def count(path, obj, key, where):
@@ -314,7 +297,7 @@ def main():
     detail = a.per_icc if a.per_icc is not None else (0 if len(runs) == 1 else None)
     rows = per_icc(a.results[detail], runs[detail]["json"]) if detail is not None else None
 
-    plt = need_matplotlib()
+    plt = need_matplotlib(fail)
     h1 = 1.3 + 0.5 * len(runs)
     if rows is None:
         fig, ax1 = plt.subplots(figsize=(10, h1))

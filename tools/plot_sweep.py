@@ -40,25 +40,7 @@ import os
 import sys
 import textwrap
 
-SYSTEM_PYTHON = "/usr/bin/python3"
-
-
-def need_matplotlib():
-    """Imports matplotlib with the Agg backend, or re-executes with the
-    system interpreter, which has Debian's python3-matplotlib."""
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt  # noqa: F401
-        return plt
-    except ImportError:
-        here = os.path.realpath(sys.executable or "")
-        if os.path.exists(SYSTEM_PYTHON) and here != os.path.realpath(SYSTEM_PYTHON) \
-                and not os.environ.get("RAPLAS_PLOT_REEXEC"):
-            os.environ["RAPLAS_PLOT_REEXEC"] = "1"
-            os.execv(SYSTEM_PYTHON, [SYSTEM_PYTHON, os.path.abspath(__file__)] + sys.argv[1:])
-        fail(f"matplotlib is missing for {sys.executable} (Debian: apt-get install python3-matplotlib, "
-             f"or run tools/install-deps.sh)", code=1)
+from plot_common import need_matplotlib  # (beside this script)
 
 
 def fail(msg, code=2):
@@ -389,7 +371,7 @@ def main():
                   "area x time, normalised to the sweep's --normalize point (not recorded in the CSV)")
     rows = kept
 
-    plt = need_matplotlib()
+    plt = need_matplotlib(fail)
 
     def sort_key(v):
         try:
