@@ -206,6 +206,13 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     std::uint64_t prev_done = 0;
     for (const Back& b : back) prev_done = std::max(prev_done, b.done);
     std::uint64_t max_done = prev_done;
+    // The last link cycle a hold reaches, its FIFO holding the entries
+    // that pop in `starts` (more than resume_at of them): the pop that
+    // leaves resume_at, stall_latency cycles on.
+    auto hold_end = [&](const RingQueue& starts) {
+        const std::uint64_t until = starts[std::size_t(starts.size() - resume_at - 1)];
+        return until == kNever ? kNever : until + stall_latency;
+    };
     // A hold raised by ICC k's push in cycle c (its FIFO then holding the
     // entries that pop in `starts`), or moved on by it.
     auto after_push = [&](std::uint32_t k, std::uint64_t c, const RingQueue& starts) {
@@ -213,8 +220,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         const std::uint32_t h = hold_of[k];
         const bool up = h != kNoHold && holds[h].until >= c + stall_latency;  // (up at the start of cycle c)
         if (size < hold_at && !(up && size > resume_at)) return;
-        const std::uint64_t until = starts[std::size_t(size - resume_at - 1)];
-        const std::uint64_t end = until == kNever ? kNever : until + stall_latency;
+        const std::uint64_t end = hold_end(starts);
         if (up) {
             holds[h].until = end;
         } else {
@@ -224,9 +230,8 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     };
     for (std::uint32_t k = 0; k < na; ++k)
         if (back[k].starts.size() >= hold_at) {  // held by the previous pass's triangles
-            const std::uint64_t until = back[k].starts[std::size_t(back[k].starts.size() - resume_at - 1)];
             hold_of[k] = std::uint32_t(holds.size());
-            holds.push_back({k, 0, until == kNever ? kNever : until + stall_latency});
+            holds.push_back({k, 0, hold_end(back[k].starts)});
             is_full[k] = 1;
             full_now.push_back(k);
         }
@@ -682,6 +687,20 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         return v;
     };
 
+    // `cycles` stalled cycles of the triangle stream: the ICCs whose full
+    // (held) Triangle FIFO stopped it (`holds_link`), and the stall anatomy.
+    auto note_held = [&](std::uint64_t cycles, auto&& holds_link) {
+        std::uint32_t held = 0, by = 0;
+        for (std::uint32_t k : full_now)
+            if (holds_link(k)) {
+                active[k]->triangle_selector.note_blocked_full(active[k]->triangle_fifo, cycles);
+                ++held;
+                by = k;
+            }
+        triangle_link.held(held, cycles);
+        if (held == 1) active[by]->triangle_selector.note_alone(cycles);
+    };
+
     std::uint64_t cycle = 0;
     Watch watch{progress_signature(), 0};
     for (;;) {
@@ -790,15 +809,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                     triangle_link.sent_many(d);
                 } else {
                     triangle_link.stalled(d);
-                    std::uint32_t held = 0, by = 0;
-                    for (std::uint32_t k : full_now)
-                        if (tri_blocker(k)) {
-                            active[k]->triangle_selector.note_blocked_full(active[k]->triangle_fifo, d);
-                            ++held;
-                            by = k;
-                        }
-                    triangle_link.held(held, d);
-                    if (held == 1) active[by]->triangle_selector.note_alone(d);
+                    note_held(d, tri_blocker);
                 }
                 cycle += d;
                 since_sync_ += d;
@@ -836,15 +847,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 if (active[k]->decoder.decided() <= ts) active[k]->triangle_selector.add_blocked_undecided(1);
             for (std::uint32_t k : cruisers)
                 if (cruise_decided(k, cycle) <= ts) active[k]->triangle_selector.add_blocked_undecided(1);
-            std::uint32_t held = 0, by = 0;
-            for (std::uint32_t k : full_now)
-                if (decided_of(k, cycle) > ts && tri_blocker(k)) {
-                    active[k]->triangle_selector.note_blocked_full(active[k]->triangle_fifo);
-                    ++held;
-                    by = k;
-                }
-            triangle_link.held(held);
-            if (held == 1) active[by]->triangle_selector.note_alone();
+            note_held(1, [&](std::uint32_t k) { return decided_of(k, cycle) > ts && tri_blocker(k); });
         }
         std::int64_t s = -1, t = -1;
         broadcast(s_has, s_ok, t_has, t_ok, s, t);
