@@ -71,6 +71,9 @@ public:
         if (!held) return true;
         return params_.policy == StallPolicy::needed_full && !wants(sphere, first_ids);
     }
+    // Its Triangle FIFO holds the link (the stall anatomy's wire): it is not
+    // ready for the triangle offered although that triangle's sphere is decided.
+    static bool fifo_holds(bool ready, std::uint32_t decided, std::uint32_t sphere) { return !ready && decided > sphere; }
     // The hold at the start of a cycle with `occupancy` entries, `before` the
     // hold at the start of the cycle before (false at a pass's first cycle).
     bool hold(std::uint64_t occupancy, std::uint32_t depth, bool before) const {

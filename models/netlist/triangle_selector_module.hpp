@@ -81,7 +81,7 @@ private:
         const bool act = active.read();
         const bool r = core_.ready_held(act, s, decided.read(), bound(first_tri), held());
         ready.write(r);
-        fifo_hold.write(!r && decided.read() > s);  // (not ready, its sphere decided: its FIFO holds)
+        fifo_hold.write(TriangleSelector::fifo_holds(r, decided.read(), s));
         bool pop = false;
         if (valid.read() && act && TriangleSelector::wants(s, bound(first_tri))) {
             const FirstTriEntry f = first_tri->front();

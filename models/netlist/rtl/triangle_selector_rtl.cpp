@@ -133,7 +133,7 @@ void TriangleSelectorRtl::drive() {
 
 void TriangleSelectorRtl::hold() {
     const LinkRecord& r = record.read();
-    fifo_hold.write(!ready.read() && decided.read() > (r.present ? r.sphere : 0));
+    fifo_hold.write(TriangleSelector::fifo_holds(ready.read(), decided.read(), r.present ? r.sphere : 0));
 }
 
 void TriangleSelectorRtl::changed() { changed_.notify(); }
