@@ -28,16 +28,16 @@
 //     same holds once every sphere is decided (only the triangle stream
 //     moves), and while full Triangle FIFOs hold the triangle stream
 //     (nothing changes until the first of them is popped).
-//  4. Under icc.triangle_select = any most selected triangles have no pair,
-//     and they come in runs (contiguous spheres cut by row planes only or
-//     column planes only). Each holds the Fetcher one cycle, so an ICC pops
-//     them in closed form from the cycles they are broadcast, and as long as
-//     its Triangle FIFO can neither fill nor pass its largest occupancy so
-//     far, the run changes nothing in it but counts and its PlaneID /
-//     First-Triangle-ID FIFOs: it "coasts", taken out of the selection until
-//     the run's last triangle (past it, to the next queued sphere, when that
-//     is queued already), and its FIFOs are brought up to date whenever they
-//     are read. (Not with icc.rdf_empty_cycles > 1, where such triangles
+//  4. Under icc.triangle_select = any most selected triangles have no pair
+//     (spheres cut by row planes only or column planes only). Each holds the
+//     Fetcher one cycle, so an ICC pops them in closed form from the cycles
+//     they are broadcast, and as long as its Triangle FIFO can neither fill
+//     nor pass its largest occupancy so far, the pair-less spheres queued in
+//     its FIFOs, contiguous or not, change nothing in it but counts and its
+//     PlaneID / First-Triangle-ID FIFOs: it "coasts", taken out of the
+//     selection until the last of them (past it, to the next queued sphere
+//     with a pair, when that is queued already), and its FIFOs are brought up
+//     to date whenever they are read. (Not with icc.rdf_empty_cycles > 1, where such triangles
 //     pile up; with 0 only from an idle Fetcher; not with a one-entry
 //     Triangle FIFO, which one of them fills.)
 //  5. On the Decoder's side, a reference ICC queues each of its kept
@@ -78,7 +78,8 @@ namespace {
 // an array each.
 struct Coast {
     std::uint32_t first = 0, pos = 0, stop = 0;
-    std::uint32_t next = 0;  // the triangle it selects next, in `waiting`
+    std::uint32_t next = 0;   // the triangle it selects next, in `waiting`
+    std::uint32_t count = 0;  // the triangles it takes: those of its entries in [first, stop)
     std::uint64_t pop0 = 0;  // the pop cycle of the triangle before `first`, which began the coast
     bool on = false;
 };
@@ -266,16 +267,20 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     };
     auto first_tri = [&](std::uint32_t sphere) { return sphere_memory.peek(sphere).first_tri; };
 
-    // Coasting (4. in the header): ICC k takes the triangles `first` up to
-    // `stop` - 1 of a run of pair-less spheres without being touched, and
-    // selects as usual the triangle it waits for in `waiting` next: the
-    // run's last one (`stop` - 1 is then the one before it) or, when the
-    // entry behind the run is queued already, that entry's first triangle
-    // (the coast then takes the whole run). Each coasted triangle holds the
-    // Fetcher one cycle, so the j-th is popped in cycle max(pop0 + j,
-    // c_j + 1), pop0 the pop cycle of the triangle that began the coast and
-    // c_j the cycle it is broadcast: with the Fetcher idle then (pop0 =
-    // c_0 + 1), the cycle after it. The coast is cut where the Triangle FIFO
+    // Coasting (4. in the header): ICC k takes the triangles of its queued
+    // pair-less spheres from `first` up to `stop` - 1 without being touched
+    // (`count` of them: the spheres need not follow one another), and
+    // selects as usual the triangle it waits for in `waiting` next: the last
+    // queued pair-less sphere's last triangle (`stop` is then that triangle)
+    // or, when a sphere with pairs is queued behind them, that sphere's
+    // first triangle (the coast then takes every pair-less one before it).
+    // Each coasted triangle holds the Fetcher one cycle, so the j-th is
+    // popped in cycle max(pop0 + j, c_i + 1 + j - i for i <= j), pop0 the
+    // pop cycle of the triangle that began the coast and c_i the cycle the
+    // i-th is broadcast. The coasted triangles are broadcast in distinct
+    // cycles, in order, before the next selection's cycle c, so every
+    // c_i + 1 + j - i is at most c: the pops after c are pop0 + j, whatever
+    // the gaps between the spheres and the stalls of the stream. The coast is cut where the Triangle FIFO
     // could fill or exceed its largest occupancy so far, so every figure of
     // the Selector, FIFO and Fetcher is a count, and the Fetcher's record is
     // rebuilt when the next triangle is selected (end_coast). Its PlaneID
@@ -306,24 +311,6 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         t.max_occupancy = std::max(t.max_occupancy, std::uint32_t(occupancy));
     };
     const bool may_coast = keep_pairless && rdf_empty <= 1 && hold_at >= 2 && cfg_.fault == Fault::none;
-    // Coasting ICC k has taken every triangle below `upto` (the link's position).
-    auto catch_up = [&](std::uint32_t k, std::uint32_t upto) {
-        Coast& co = coast[k];
-        upto = std::min(upto, co.stop);
-        if (upto <= co.pos) return;
-        Icc& icc = *active[k];
-        const std::uint32_t taken = upto - co.pos;
-        Tally& t = tally[k];
-        t.selected += taken;  // (each finds at most its quiet limit in the FIFO: select's cut)
-        t.triangles += taken;
-        t.empty += taken;
-        Fifo<FirstTriEntry>& f = icc.first_tri_fifo;
-        while (f.front().first + f.front().count <= upto) {  // (the entry of `next` stays)
-            f.pop();
-            icc.planeid_fifo.pop();
-        }
-        co.pos = upto;
-    };
     // Coasting ICC k is about to select its next triangle in cycle c:
     // its Fetcher record as the coasted triangles left it. The j-th of them
     // (j = 1..L) is popped in cycle max(pop0 + j, c_j + 1), c_j < c the cycle
@@ -333,7 +320,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     auto end_coast = [&](std::uint32_t k, std::uint64_t c) {
         Coast& co = coast[k];
         Back& b = back[k];
-        const std::uint64_t L = co.stop - co.first;
+        const std::uint64_t L = co.count;
         for (std::uint64_t j = c >= co.pop0 ? c - co.pop0 + 1 : 1; j <= L; ++j) b.starts.push_back(co.pop0 + j);
         b.next_cyc = co.pop0 + L;
         b.next_used = rdf_empty ? rti_pipes : 0;  // (0: the next slot is free after it)
@@ -371,6 +358,35 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         } while (z.has && e.sphere < upto);
         c.decoder.note_hit(false, pairs);
         c.decoder.note_hit(true, pairless);
+    };
+    // Coasting ICC k has taken every triangle of its entries below `upto`
+    // (the link's position): those from `pos` on are counted, and the
+    // entries whose last triangle is among them popped. (Every sphere with a
+    // triangle below `upto` is decided, and so queued by now.)
+    auto catch_up = [&](std::uint32_t k, std::uint32_t upto) {
+        Coast& co = coast[k];
+        upto = std::min(upto, co.stop);
+        if (upto <= co.pos) return;
+        if (lazy[k].on) push_lazy(k, rd.decided());  // (a coast may take spheres not queued when it began)
+        Icc& icc = *active[k];
+        Fifo<FirstTriEntry>& f = icc.first_tri_fifo;
+        std::uint32_t taken = 0;
+        while (!f.empty()) {  // (the entry of `next` stays: it ends past `stop`)
+            const FirstTriEntry& e = f.front();
+            const std::uint32_t from = std::max(e.first, co.pos), end = e.first + e.count;
+            if (end > upto) {
+                if (upto > from) taken += upto - from;
+                break;
+            }
+            if (end > from) taken += end - from;
+            f.pop();
+            icc.planeid_fifo.pop();
+        }
+        Tally& t = tally[k];
+        t.selected += taken;  // (each finds at most its quiet limit in the FIFO: select's cut)
+        t.triangles += taken;
+        t.empty += taken;
+        co.pos = upto;
     };
     // Reference ICC k, its FIFOs as they are after sphere x was decided: lazy
     // up to the sphere its room allows, if it has room and spheres left, else
@@ -620,35 +636,67 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         const std::uint64_t backlog = start - c - 1, occupancy = b.starts.size();
         if ((backlog || occupancy > 1) && rdf_empty != 1) return false;
         if (hold_of[k] != kNoHold && holds[hold_of[k]].until >= c + 1 + stall_latency) return false;  // held
-        // The run of contiguous pair-less spheres in the FIFOs from here, and
-        // whether the entry behind it is queued.
-        const Fifo<FirstTriEntry>& f = icc.first_tri_fifo;
-        const Fifo<PlaneIdEntry>& pf = icc.planeid_fifo;
-        std::uint32_t end = tri + 1, i = 0;
-        for (; i < f.size(); ++i) {
-            const PlaneIdEntry& pm = pf.at(i);
-            const FirstTriEntry& e = f.at(i);
-            if ((pm.rows && pm.cols) || e.first > end) break;
-            end = e.first + e.count;
-        }
-        // The i-th triangle of the coast finds at most occupancy + min(i,
+        // The i-th triangle of a coast finds at most occupancy + min(i,
         // backlog) entries (older ones pop no later than this one, and the
         // Fetcher takes one of the coast's each cycle once free): it must not
-        // fill the FIFO or raise its largest occupancy so far.
-        // (nor raise its hold)
+        // fill the FIFO or raise its largest occupancy so far (nor raise its
+        // hold). `limit`: the most triangles a coast may take so.
         const std::uint64_t most = std::min(Fifo<TriWork>::quiet_limit(tl.max_occupancy, tri_depth), hold_at - 1);
-        auto quiet = [&](std::uint32_t stop) { return occupancy + std::min<std::uint64_t>(stop - tri - 1, backlog) <= most; };
-        if (i < f.size() && end >= tri + 2 && quiet(end)) {  // the whole run, then the entry behind it
-            coast[k] = Coast{tri + 1, tri + 1, end, f.at(i).first, start, true};
-            return true;
+        if (occupancy > most) return false;
+        const std::uint64_t limit = occupancy + backlog <= most ? ~std::uint64_t(0) : most - occupancy;
+        // The pair-less triangles it has still to take from here, in order:
+        // those of the spheres queued in its FIFOs and, for a reference ICC,
+        // of the spheres it is to queue next (its lists), up to the first
+        // sphere with pairs. `stretches(f)` calls f(from, end) for each run of
+        // them while f returns true, and returns the first triangle of that
+        // sphere with pairs (kNoTri: none, or not known to an ICC on its own,
+        // whose FIFOs are not filled from the lists).
+        constexpr std::uint32_t kNoTri = ~std::uint32_t(0);
+        const Fifo<FirstTriEntry>& f = icc.first_tri_fifo;
+        const Fifo<PlaneIdEntry>& pf = icc.planeid_fifo;
+        auto stretches = [&](auto&& fn) {
+            for (std::size_t i = 0; i < f.size(); ++i) {
+                const FirstTriEntry& e = f.at(i);
+                const PlaneIdEntry& pm = pf.at(i);
+                if (pm.rows && pm.cols) return e.first;
+                if (!fn(std::max(e.first, tri + 1), e.first + e.count)) return kNoTri;
+            }
+            if (role[k] != ref) return kNoTri;
+            const std::uint32_t s0 = f.empty() ? triangle_memory.sphere_of(tri) + 1 : f.at(f.size() - 1).sphere + 1;
+            const auto& hits = icc.unit().sphere_hits();
+            const auto h = first_hit_from(hits, s0);
+            const std::uint32_t paired = h == hits.end() ? ~std::uint32_t(0) : h->sphere;
+            const auto& runs = icc.unit().pairless();
+            for (auto r = first_run_from(runs, s0); r != runs.end() && r->first < paired; ++r) {
+                const std::uint32_t last = r->end() - 1;
+                if (!fn(first_tri(std::max(r->first, s0)), info.first_tri(last) + info.tri_count(last))) return kNoTri;
+            }
+            return paired == ~std::uint32_t(0) ? kNoTri : first_tri(paired);
+        };
+        std::uint64_t pairless = 0;  // (counted no further than `limit` is passed)
+        const std::uint32_t paired = stretches([&](std::uint32_t from, std::uint32_t end) {
+            pairless += end - from;
+            return pairless <= limit;
+        });
+        // It takes them all and selects the sphere with pairs next, or all
+        // but the last and selects that one; at most `limit` in either case,
+        // the next one selected then.
+        const bool behind = paired != kNoTri;
+        const std::uint64_t take = std::min(behind ? pairless : pairless ? pairless - 1 : 0, limit);
+        if (take == 0) return false;
+        std::uint32_t next = paired;
+        if (!(behind && take == pairless)) {  // the (take + 1)-th pair-less triangle
+            std::uint64_t left = take;
+            stretches([&](std::uint32_t from, std::uint32_t end) {
+                if (left < end - from) {
+                    next = from + std::uint32_t(left);
+                    return false;
+                }
+                left -= end - from;
+                return true;
+            });
         }
-        // Else up to the run's last triangle, which it selects.
-        if (end < tri + 3) return false;  // nothing to skip
-        if (!quiet(end - 1)) {
-            if (occupancy >= most) return false;
-            end = std::min<std::uint32_t>(end, tri + 2 + std::uint32_t(most - occupancy));
-        }
-        coast[k] = Coast{tri + 1, tri + 1, end - 1, end - 1, start, true};
+        coast[k] = Coast{tri + 1, tri + 1, next, next, std::uint32_t(take), start, true};
         return true;
     };
 
@@ -780,7 +828,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 d = std::min<std::uint64_t>(d, first_tri(min_decided) - tp);
             if (s_frozen && t_flows)  // a coasting ICC's pop can free its Decoder
                 for (std::uint32_t k : individuals)
-                    if (coast[k].on) {
+                    if (coast[k].on && !active[k]->first_tri_fifo.empty()) {
                         const FirstTriEntry& h = active[k]->first_tri_fifo.front();
                         d = std::min<std::uint64_t>(d, h.first + h.count - 1 - tp);
                     }
@@ -932,7 +980,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                         diverged.push_back(k);
                         return;
                     }
-                    const bool was_empty = c.first_tri_fifo.empty();
+                    const bool was_empty = c.first_tri_fifo.empty() && !coast[k].on;  // (a coast waits already)
                     KeptSpheres& e = kept[k];
                     const PlaneIdEntry masks{e.rows, e.cols};
                     c.planeid_fifo.push(masks);
@@ -959,7 +1007,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
             const std::uint32_t k = individuals[i];
             Icc& c = *active[k];
             if (coast[k].on) catch_up(k, std::uint32_t(triangle_link.position()));
-            const bool was_empty = c.first_tri_fifo.empty();
+            const bool was_empty = c.first_tri_fifo.empty() && !coast[k].on;
             c.tick_front(s, info, spheres_pending);
             if (was_empty && !c.first_tri_fifo.empty()) waiting.push(c.first_tri_fifo.front().first, k);
             if (may_rejoin(k)) {  // (the order of `individuals` changes no figure)
