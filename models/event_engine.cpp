@@ -59,6 +59,10 @@
 //     steps, and is brought up to date in one step then.
 //     The skips of 3. run past dozers and cruisers, stopping short of a
 //     dozer's Sphere FIFO filling, a cruise's end or its FIFO running dry.
+//     The sphere stream is steady too when no ICC is on the shared pipeline
+//     but some cruise (a lone ICC under the any-plane reading, mostly): the
+//     shared side still follows the stream, and the Decoder's hand-overs it
+//     passes only move the ICCs' cursors, which the next stepped cycle does.
 // The equivalence with the netlist (every block stepped every cycle) is checked in CI on a grid of
 // scenes, ICC counts, FIFO depths and policies (tests/equivalence_modes.py).
 #include <algorithm>
@@ -779,8 +783,11 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         // stream: it decides a sphere a cycle, and every sphere has a triangle.)
         if (t_has && (n_ref == 0 || rd.decided() > ts) &&
             (cruisers.empty() || std::int64_t(cycle) + cruise_offset > std::int64_t(ts))) {
-            const bool s_steady = individuals.empty() && dozers_full == 0 && n_ref > 0 && s_has && rp.batches() == 1 &&
-                                  rp.in_flight() == stages && rp.has_output() && !rf.empty() && !rf.full();
+            // (Steady with no reference ICC too when some cruise: a cruiser decides a sphere a cycle and its
+            // Sphere FIFO stays as it is while the stream moves; the shared side follows the stream all the same.)
+            const bool s_steady = individuals.empty() && dozers_full == 0 && (n_ref > 0 || !cruisers.empty()) &&
+                                  s_has && rp.batches() == 1 && rp.in_flight() == stages && rp.has_output() &&
+                                  !rf.empty() && !rf.full();
             bool s_done = !s_has && rf.empty() && rp.in_flight() == 0 && dozers.empty() && cruisers.empty();
             bool s_frozen = s_has && !(individuals.empty() && dozers.empty()) && rf.empty() && rp.drained() &&
                             doze_decided > ts;
@@ -817,7 +824,8 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
             }
             if (s_steady) {
                 d = std::min<std::uint64_t>(d, sphere_link.end() - sp);
-                if (!kept_at.empty()) d = std::min<std::uint64_t>(d, kept_at.min_key() - rp.output().sphere);
+                // (with no reference ICC the hand-overs only move cursors: the next stepped cycle moves them on)
+                if (n_ref && !kept_at.empty()) d = std::min<std::uint64_t>(d, kept_at.min_key() - rp.output().sphere);
             }
             if (s_steady && !dozers.empty()) d = std::min<std::uint64_t>(d, doze_fill - sp);
             if (!cruisers.empty()) {
@@ -957,7 +965,8 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 if (e.next()) kept_at.push(e.sphere, k);
                 return masks;
             };
-            while (!kept_at.empty() && kept_at.min_key() < x)  // (none: each sphere is decided once, in order)
+            // (Only ICCs on their own: a skip with no reference ICC passes hand-overs that move cursors alone.)
+            while (!kept_at.empty() && kept_at.min_key() < x)
                 kept_at.pop_min([&](std::uint32_t k) { advance(k); });
             if (!kept_at.empty() && kept_at.min_key() == x)
                 kept_at.pop_min([&](std::uint32_t k) {
