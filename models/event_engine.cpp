@@ -37,9 +37,9 @@
 //     PlaneID / First-Triangle-ID FIFOs: it "coasts", taken out of the
 //     selection until the last of them (past it, to the next queued sphere
 //     with a pair, when that is queued already), and its FIFOs are brought up
-//     to date whenever they are read. (Not with icc.rdf_empty_cycles > 1, where such triangles
-//     pile up; with 0 only from an idle Fetcher; not with a one-entry
-//     Triangle FIFO, which one of them fills.)
+//     to date whenever they are read. (Not with icc.rdf_empty_cycles > 1,
+//     where such triangles pile up; with 0 only from an idle Fetcher; not
+//     with a one-entry Triangle FIFO, which one of them fills.)
 //  5. On the Decoder's side, a reference ICC queues each of its kept
 //     spheres in the cycle the shared side decides it; while its PlaneID
 //     FIFO can neither fill nor pass its largest occupancy so far, those
@@ -81,10 +81,10 @@ namespace {
 // read them together: one array of them, two cache lines per ICC, instead of
 // an array each.
 struct Coast {
-    std::uint32_t first = 0, pos = 0, stop = 0;
-    std::uint32_t next = 0;   // the triangle it selects next, in `waiting`
-    std::uint32_t count = 0;  // the triangles it takes: those of its entries in [first, stop)
-    std::uint64_t pop0 = 0;  // the pop cycle of the triangle before `first`, which began the coast
+    std::uint32_t pos = 0;    // the link position up to which it has taken its triangles
+    std::uint32_t next = 0;   // the triangle it selects next, in `waiting`: it takes those before it
+    std::uint32_t count = 0;  // the triangles it takes: those of its entries from its start up to `next`
+    std::uint64_t pop0 = 0;   // the pop cycle of the triangle that began the coast
     bool on = false;
 };
 struct Tally {
@@ -272,10 +272,10 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     auto first_tri = [&](std::uint32_t sphere) { return sphere_memory.peek(sphere).first_tri; };
 
     // Coasting (4. in the header): ICC k takes the triangles of its queued
-    // pair-less spheres from `first` up to `stop` - 1 without being touched
-    // (`count` of them: the spheres need not follow one another), and
-    // selects as usual the triangle it waits for in `waiting` next: the last
-    // queued pair-less sphere's last triangle (`stop` is then that triangle)
+    // pair-less spheres after the one that began the coast and before
+    // `next` without being touched (`count` of them: the spheres need not
+    // follow one another), and selects as usual the triangle it waits for in
+    // `waiting`, `next`: the last queued pair-less sphere's last triangle
     // or, when a sphere with pairs is queued behind them, that sphere's
     // first triangle (the coast then takes every pair-less one before it).
     // Each coasted triangle holds the Fetcher one cycle, so the j-th is
@@ -284,8 +284,9 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     // i-th is broadcast. The coasted triangles are broadcast in distinct
     // cycles, in order, before the next selection's cycle c, so every
     // c_i + 1 + j - i is at most c: the pops after c are pop0 + j, whatever
-    // the gaps between the spheres and the stalls of the stream. The coast is cut where the Triangle FIFO
-    // could fill or exceed its largest occupancy so far, so every figure of
+    // the gaps between the spheres and the stalls of the stream. The coast
+    // is cut where the Triangle FIFO could fill or exceed its largest
+    // occupancy so far, so every figure of
     // the Selector, FIFO and Fetcher is a count, and the Fetcher's record is
     // rebuilt when the next triangle is selected (end_coast). Its PlaneID
     // and First-Triangle-ID FIFOs are popped when someone reads them
@@ -316,9 +317,9 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     };
     const bool may_coast = keep_pairless && rdf_empty <= 1 && hold_at >= 2 && cfg_.fault == Fault::none;
     // Coasting ICC k is about to select its next triangle in cycle c:
-    // its Fetcher record as the coasted triangles left it. The j-th of them
-    // (j = 1..L) is popped in cycle max(pop0 + j, c_j + 1), c_j < c the cycle
-    // it was broadcast: those still in the FIFO in cycle c are the ones with
+    // its Fetcher record as the coasted triangles left it. Of the j-th of
+    // them (j = 1..L) only a pop in cycle pop0 + j can come after cycle c
+    // (above): those still in the FIFO in cycle c are the ones with
     // pop0 + j > c, and the last is popped in pop0 + L or by cycle c, which
     // the next selection's slot treats alike.
     auto end_coast = [&](std::uint32_t k, std::uint64_t c) {
@@ -369,13 +370,13 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     // triangle below `upto` is decided, and so queued by now.)
     auto catch_up = [&](std::uint32_t k, std::uint32_t upto) {
         Coast& co = coast[k];
-        upto = std::min(upto, co.stop);
+        upto = std::min(upto, co.next);
         if (upto <= co.pos) return;
         if (lazy[k].on) push_lazy(k, rd.decided());  // (a coast may take spheres not queued when it began)
         Icc& icc = *active[k];
         Fifo<FirstTriEntry>& f = icc.first_tri_fifo;
         std::uint32_t taken = 0;
-        while (!f.empty()) {  // (the entry of `next` stays: it ends past `stop`)
+        while (!f.empty()) {  // (the entry of `next` stays: it ends past `upto`)
             const FirstTriEntry& e = f.front();
             const std::uint32_t from = std::max(e.first, co.pos), end = e.first + e.count;
             if (end > upto) {
@@ -673,9 +674,9 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
             const auto& runs = icc.unit().pairless();
             for (auto r = first_run_from(runs, s0); r != runs.end() && r->first < paired; ++r) {
                 const std::uint32_t last = r->end() - 1;
-                if (!fn(first_tri(std::max(r->first, s0)), info.first_tri(last) + info.tri_count(last))) return kNoTri;
+                if (!fn(info.first_tri(std::max(r->first, s0)), info.first_tri(last) + info.tri_count(last))) return kNoTri;
             }
-            return paired == ~std::uint32_t(0) ? kNoTri : first_tri(paired);
+            return paired == ~std::uint32_t(0) ? kNoTri : info.first_tri(paired);
         };
         std::uint64_t pairless = 0;  // (counted no further than `limit` is passed)
         const std::uint32_t paired = stretches([&](std::uint32_t from, std::uint32_t end) {
@@ -700,7 +701,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 return true;
             });
         }
-        coast[k] = Coast{tri + 1, tri + 1, next, next, std::uint32_t(take), start, true};
+        coast[k] = Coast{tri + 1, next, std::uint32_t(take), start, true};
         return true;
     };
 
@@ -1028,7 +1029,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 continue;
             }
             // (a coast whose run has passed pops nothing more before its next selection)
-            if (may_doze && !(coast[k].on && coast[k].pos < coast[k].stop) && !lazy[k].on && !c.psi.stuck() &&
+            if (may_doze && !(coast[k].on && coast[k].pos < coast[k].next) && !lazy[k].on && !c.psi.stuck() &&
                 c.decoder_holds()) {
                 start_doze(k, cycle);
                 individuals[i] = individuals.back();
