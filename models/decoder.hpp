@@ -63,6 +63,14 @@ public:
         }
         return true;
     }
+    // Moves to just before the first kept sphere from s on: next() gives it.
+    void seek(std::uint32_t s) {
+        hi_ = std::size_t(first_hit_from(*hits_, s) - hits_->begin());
+        in_run_ = 0;
+        if (!runs_) return;
+        ri_ = std::size_t(first_run_from(*runs_, s) - runs_->begin());
+        if (ri_ < runs_->size() && (*runs_)[ri_].first < s) in_run_ = s;
+    }
     // After next() gave a sphere of a run of pair-less spheres: how many of
     // that run follow it; skip(n) passes n of them (n <= run_left()).
     std::uint32_t run_left() const { return in_run_ ? (*runs_)[ri_].end() - in_run_ : 0; }

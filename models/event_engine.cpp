@@ -26,8 +26,9 @@
 //     decision out every cycle), nothing but the stream positions changes
 //     until the next such event: those cycles are skipped in one step. The
 //     same holds once every sphere is decided (only the triangle stream
-//     moves), and while full Triangle FIFOs hold the triangle stream
-//     (nothing changes until the first of them is popped).
+//     moves), once the triangle stream is done too (only the back ends
+//     drain, in closed form by 2.), and while full Triangle FIFOs hold the
+//     triangle stream (nothing changes until the first of them is popped).
 //  4. Under icc.triangle_select = any most selected triangles have no pair
 //     (spheres cut by row planes only or column planes only). Each holds the
 //     Fetcher one cycle, so an ICC pops them in closed form from the cycles
@@ -555,23 +556,37 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     };
     auto cruise_decided = [&](std::uint32_t k, std::uint64_t c) { return std::uint32_t(cruise[k].d0 + (c - cruise[k].c0)); };
     // The first sphere from `from` on that ICC k's Decoder queues (the sphere
-    // count if none). An ICC that cannot cruise asks again a cycle later, one
-    // sphere on: the last answer x, found from `queued_from`, holds for every
-    // `from` in [queued_from, x].
-    std::vector<std::uint32_t> queued_from(na, ~std::uint32_t(0)), queued_at(na, 0);
+    // count if none). An ICC that cannot cruise asks again a cycle later, a
+    // sphere or so on (its decision count only grows in a pass): a cursor per
+    // ICC over its two lists moves forward to the answer, and the answer x
+    // stands for every `from` up to x.
+    struct Queued {
+        const std::vector<SphereHitRec>* hits = nullptr;
+        const std::vector<SphereRun>* runs = nullptr;
+        std::uint32_t from = 0, at = 0;
+        std::size_t hit = 0, run = 0;
+        bool known = false;  // `at` is the answer for `from`
+    };
+    std::vector<Queued> queued(na);
+    for (std::uint32_t k = 0; k < na; ++k) {
+        queued[k].hits = &active[k]->unit().sphere_hits();
+        queued[k].runs = &active[k]->unit().pairless();
+    }
     auto next_queued = [&](std::uint32_t k, std::uint32_t from) {
-        if (queued_from[k] <= from && from <= queued_at[k]) return queued_at[k];
-        const GroupUnit& u = active[k]->unit();
-        const auto& hits = u.sphere_hits();
-        const auto h = first_hit_from(hits, from);
-        std::uint32_t x = h == hits.end() ? std::uint32_t(sphere_memory.size()) : h->sphere;
+        Queued& q = queued[k];
+        if (q.known && q.from <= from && from <= q.at) return q.at;
+        if (from < q.from) q = Queued{q.hits, q.runs};  // (never in the normal course)
+        const auto& hits = *q.hits;
+        const auto& runs = *q.runs;
+        while (q.hit < hits.size() && hits[q.hit].sphere < from) ++q.hit;
+        std::uint32_t x = q.hit == hits.size() ? std::uint32_t(sphere_memory.size()) : hits[q.hit].sphere;
         if (keep_pairless) {
-            const auto& runs = u.pairless();
-            const auto r = first_run_from(runs, from);
-            if (r != runs.end()) x = std::min(x, std::max(r->first, from));
+            while (q.run < runs.size() && runs[q.run].end() <= from) ++q.run;
+            if (q.run < runs.size()) x = std::min(x, std::max(runs[q.run].first, from));
         }
-        queued_from[k] = from;
-        queued_at[k] = x;
+        q.from = from;
+        q.at = x;
+        q.known = true;
         return x;
     };
     // Cruising ICC k brought up to the start of cycle c (the sphere link now at its position then).
@@ -766,6 +781,35 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         auto tri_blocker = [&](std::uint32_t k) {  // ICC k's Triangle FIFO stops this triangle
             return is_full[k] && (any_full || TriangleSelector::wants(ts, active[k]->first_tri_fifo));
         };
+
+        // ---- the drain: both streams done, the back ends finish ----------
+        // Every sphere is decided in every ICC (the last triangle was
+        // broadcast) and nothing is left in flight on the sphere side: up to
+        // the pass's end only the Fetchers and RTIs work, and they are in
+        // closed form already (`back`). The cycles up to the last are idle
+        // on both links.
+        if (!t_has && !s_has && !triangle_link.has_record() && selecting.empty() && dozers.empty() &&
+            cruisers.empty() && rf.empty() && rp.in_flight() == 0) {
+            const std::uint64_t last = p.drain ? max_done : prev_done;  // the pass's last cycle
+            bool quiet = last != kNever;
+            for (std::uint32_t k : individuals)
+                quiet = quiet && active[k]->sphere_fifo.empty() && active[k]->psi.in_flight() == 0;
+            if (quiet && last > cycle + 1) {
+                const std::uint64_t d = last - cycle;  // (cycle `last` itself is stepped)
+                no_sphere_cycles += d;
+                sphere_link.idle(d);
+                triangle_link.idle(d);
+                rp.idle(d);
+                for (std::uint32_t k : individuals) active[k]->psi.idle(d);
+                cycle += d;
+                since_sync_ += d;
+                if (since_sync_ >= cfg_.sync_cycles) {
+                    wait(period_ * double(since_sync_));
+                    since_sync_ = 0;
+                }
+                continue;
+            }
+        }
 
         // ---- skip cycles in which only stream positions change -----------
         // The sphere side either streams steadily (a sphere in and a decision
@@ -966,7 +1010,8 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 if (e.next()) kept_at.push(e.sphere, k);
                 return masks;
             };
-            // (Only ICCs on their own: a skip with no reference ICC passes hand-overs that move cursors alone.)
+            // (A reference ICC is never passed: the skips stop at its next kept sphere. An ICC on its own is
+            // not in `kept_at` but from the start under fault injection; passed, its entry is only moved on.)
             while (!kept_at.empty() && kept_at.min_key() < x)
                 kept_at.pop_min([&](std::uint32_t k) { advance(k); });
             if (!kept_at.empty() && kept_at.min_key() == x)
@@ -976,14 +1021,10 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                         arm_lazy(k, x);
                         return;
                     }
-                    if (role[k] != ref) {
-                        advance(k);
-                        return;
-                    }
+                    if (role[k] != ref) return;  // (on its own: its cursor is set again when it rejoins)
                     Icc& c = *active[k];
                     if (coast[k].on) catch_up(k, std::uint32_t(triangle_link.position()));
                     if (c.planeid_fifo.full() || c.first_tri_fifo.full()) {
-                        advance(k);
                         adopt_reference(k);  // its Decoder holds: it has its own sphere side until it rejoins
                         role[k] = individual;
                         --n_ref;
@@ -1024,6 +1065,9 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 role[k] = ref;
                 ++n_ref;
                 joined[k] = joined_now();
+                // (every sphere before the shared side's next one is decided)
+                kept[k].seek(rd.decided());
+                if (kept[k].next()) kept_at.push(kept[k].sphere, k);
                 individuals[i] = individuals.back();
                 individuals.pop_back();
                 continue;

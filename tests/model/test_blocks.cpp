@@ -262,11 +262,43 @@ TEST(TriangleSelector, WaitsForTheDecisionThenSelectsOrDiscards) {
 // smallest key always the one the search finds. Pushes below the smallest
 // key followed by a take (an ICC queued just ahead of the stream, far below
 // the others) are among the cases drawn.
+// A cursor set at sphere s gives the kept spheres from s on, as one walked from the start does.
+TEST(KeptSpheres, SeekGivesTheKeptSpheresFromThereOn) {
+    std::mt19937 rng(11);
+    for (int trial = 0; trial < 300; ++trial) {
+        std::vector<SphereHitRec> hits;
+        std::vector<SphereRun> runs;
+        std::uint32_t s = 0;
+        while (s < 200) {  // hit spheres, pair-less runs and gaps, in sphere order
+            const std::uint32_t r = std::uint32_t(rng() % 4), n = 1 + std::uint32_t(rng() % 5);
+            if (r == 0) hits.push_back({s, 0b1, 0b10});
+            if (r == 1) add_to_runs(runs, s, n);
+            s += r == 1 ? n : 1 + std::uint32_t(rng() % 3);
+        }
+        const std::vector<SphereRun>* const readings[] = {&runs, nullptr};  // any, both
+        for (const std::vector<SphereRun>* rp : readings) {
+            std::vector<std::uint32_t> all;
+            KeptSpheres walk(hits, rp);
+            while (walk.next()) all.push_back(walk.sphere);
+            for (std::uint32_t from = 0; from <= s; from += 1 + std::uint32_t(rng() % 7)) {
+                KeptSpheres e(hits, rp);
+                e.seek(from);
+                std::vector<std::uint32_t> got;
+                while (e.next()) got.push_back(e.sphere);
+                std::vector<std::uint32_t> want;
+                for (std::uint32_t x : all)
+                    if (x >= from) want.push_back(x);
+                ASSERT_EQ(got, want) << "trial " << trial << ", from " << from << (rp ? ", any" : ", both");
+            }
+        }
+    }
+}
+
 TEST(BucketQueue, SmallestKeyIsAlwaysTheSmallestUsedOne) {
     std::mt19937 rng(7);
+    BucketQueue q;  // (reset for every trial, as for every pass: with the same keys, emptied or not, or others)
     for (int trial = 0; trial < 2000; ++trial) {
-        const std::uint32_t keys = 16 + std::uint32_t(trial % 200), iccs = 1 + std::uint32_t(trial % 9);
-        BucketQueue q;
+        const std::uint32_t keys = 16 + 3 * std::uint32_t(trial / 4 % 200), iccs = 1 + std::uint32_t(trial % 9);
         q.reset(keys, iccs);
         std::vector<std::int64_t> key_of(iccs, -1);
         std::uint32_t pos = 0;
