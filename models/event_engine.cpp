@@ -270,7 +270,6 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         return c.sphere_fifo.empty() && c.psi.drained() && !c.psi.stuck() && rf.empty() && rp.drained() &&
                c.decoder.decided() == rd.decided();
     };
-    auto first_tri = [&](std::uint32_t sphere) { return sphere_memory.peek(sphere).first_tri; };
 
     // Coasting (4. in the header): ICC k takes the triangles of its queued
     // pair-less spheres after the one that began the coast and before
@@ -770,6 +769,22 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     };
 
     std::uint64_t cycle = 0;
+    // d skipped cycles of a finished sphere side: no sphere, every PSI idle.
+    auto spheres_idle = [&](std::uint64_t d) {
+        no_sphere_cycles += d;
+        sphere_link.idle(d);
+        rp.idle(d);
+        for (std::uint32_t k : individuals) active[k]->psi.idle(d);
+    };
+    // Moves past d skipped cycles, the simulated time kept in step as a stepped cycle keeps it.
+    auto skip = [&](std::uint64_t d) {
+        cycle += d;
+        since_sync_ += d;
+        if (since_sync_ >= cfg_.sync_cycles) {
+            wait(period_ * double(since_sync_));
+            since_sync_ = 0;
+        }
+    };
     Watch watch{progress_signature(), 0};
     for (;;) {
         const std::uint32_t sp = std::uint32_t(sphere_link.position());
@@ -796,17 +811,9 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 quiet = quiet && active[k]->sphere_fifo.empty() && active[k]->psi.in_flight() == 0;
             if (quiet && last > cycle + 1) {
                 const std::uint64_t d = last - cycle;  // (cycle `last` itself is stepped)
-                no_sphere_cycles += d;
-                sphere_link.idle(d);
+                spheres_idle(d);
                 triangle_link.idle(d);
-                rp.idle(d);
-                for (std::uint32_t k : individuals) active[k]->psi.idle(d);
-                cycle += d;
-                since_sync_ += d;
-                if (since_sync_ >= cfg_.sync_cycles) {
-                    wait(period_ * double(since_sync_));
-                    since_sync_ = 0;
-                }
+                skip(d);
                 continue;
             }
         }
@@ -878,7 +885,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 if (!s_steady) d = std::min<std::uint64_t>(d, cruise_dry - no_sphere_cycles);
             }
             if (s_frozen && t_flows && min_decided < sphere_memory.size())  // (no decision while frozen)
-                d = std::min<std::uint64_t>(d, first_tri(min_decided) - tp);
+                d = std::min<std::uint64_t>(d, info.first_tri(min_decided) - tp);
             if (s_frozen && t_flows)  // a coasting ICC's pop can free its Decoder
                 for (std::uint32_t k : individuals)
                     if (coast[k].on && !active[k]->first_tri_fifo.empty()) {
@@ -900,10 +907,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                     rp.idle(d);
                     for (std::uint32_t k : individuals) active[k]->hold_front(d);
                 } else {
-                    no_sphere_cycles += d;
-                    sphere_link.idle(d);
-                    rp.idle(d);
-                    for (std::uint32_t k : individuals) active[k]->psi.idle(d);
+                    spheres_idle(d);
                 }
                 if (t_flows) {
                     triangle_memory.read_many(d);
@@ -912,12 +916,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                     triangle_link.stalled(d);
                     note_held(d, tri_blocker);
                 }
-                cycle += d;
-                since_sync_ += d;
-                if (since_sync_ >= cfg_.sync_cycles) {
-                    wait(period_ * double(since_sync_));
-                    since_sync_ = 0;
-                }
+                skip(d);
                 continue;
             }
         }
@@ -990,7 +989,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 const Fifo<FirstTriEntry>& f = active[k]->first_tri_fifo;
                 if (f.empty() || f.front().sphere != ts) {
                     if (!f.empty()) waiting.push(f.front().first, k);
-                    else if (lazy[k].on && lazy[k].has) waiting.push(first_tri(kept[k].sphere), k);  // (not decided yet)
+                    else if (lazy[k].on && lazy[k].has) waiting.push(info.first_tri(kept[k].sphere), k);  // (not decided yet)
                     selecting[i] = selecting.back();
                     selecting.pop_back();
                 } else {
@@ -1037,7 +1036,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                     c.planeid_fifo.push(masks);
                     c.first_tri_fifo.push(info.entry(x));
                     c.decoder.note_hit(!(masks.rows && masks.cols));
-                    if (was_empty) waiting.push(first_tri(x), k);
+                    if (was_empty) waiting.push(info.first_tri(x), k);
                     if (may_lazy) {  // the spheres after it, lazily
                         lazy[k].has = e.next();
                         arm_lazy(k, x);
