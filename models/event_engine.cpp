@@ -64,6 +64,18 @@
 //     but some cruise (a lone ICC under the any-plane reading, mostly): the
 //     shared side still follows the stream, and the Decoder's hand-overs it
 //     passes only move the ICCs' cursors, which the next stepped cycle does.
+//  8. The only ICC stepped on its own whose PSI pipe is full (one batch per
+//     sphere; under the any-plane reading mostly one whose coast's pops
+//     free a FIFO slot every few cycles, each letting its Decoder decide up
+//     to its next kept sphere) keeps it full: each cycle its Decoder
+//     decides the next sphere or holds, its PSI takes a sphere or stalls,
+//     and its Sphere FIFO, which takes every sphere broadcast and stops the
+//     stream when full, does not run dry. Its front end is then counted,
+//     not ticked, while the links, the shared side and its coast's pops are
+//     stepped; its blocks are brought up to date at the end. While it holds
+//     with a full Sphere FIFO (the stream stopped), or holds while its
+//     Sphere FIFO fills and the shared side streams steadily, the cycles up
+//     to its next pop are skipped in one step.
 // The equivalence with the netlist (every block stepped every cycle) is checked in CI on a grid of
 // scenes, ICC counts, FIFO depths and policies (tests/equivalence_modes.py).
 #include <algorithm>
@@ -918,6 +930,164 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 }
                 skip(d);
                 continue;
+            }
+        }
+
+        // ---- the only ICC on its own, its pipe full: its front end counted --
+        // (8. in the header) Cycle by cycle the links, the shared side and
+        // its coast's pops are stepped as usual, but its own front end is a
+        // count: its Decoder decides one sphere a cycle, or holds at a kept
+        // sphere while its FIFOs are full; its PSI then takes the next sphere
+        // from its Sphere FIFO, or stalls; its Sphere FIFO takes every sphere
+        // broadcast and stops the stream when full, so it does not run dry
+        // while the stream lasts. Up to a selection, a hand-over, an
+        // undecided sphere on the triangle stream, a run of spheres it does
+        // not queue long enough to cruise (7.), the end of either stream or
+        // a watchdog look; its blocks are then brought up to date at once.
+        if (may_cruise && individuals.size() == 1 && dozers.empty() && cruisers.empty() && selecting.empty() &&
+            full_now.empty() && holds.empty() && t_has && s_has) {
+            const std::uint32_t k = individuals[0];
+            Icc& c = *active[k];
+            const Coast& co = coast[k];
+            if (!(co.on && co.pos >= co.next) && !lazy[k].on && !c.psi.stuck() && c.psi.in_flight() == stages &&
+                c.psi.free_to_issue() && c.psi.has_output() && !c.sphere_fifo.empty()) {
+                Fifo<FirstTriEntry>& f = c.first_tri_fifo;
+                const std::uint32_t s_depth = c.sphere_fifo.depth();
+                const std::vector<SphereHitRec>& hits = *queued[k].hits;
+                auto head_end = [&] { return f.empty() ? ~std::uint32_t(0) : f.front().first + f.front().count; };
+                std::uint32_t x = c.psi.output().sphere;  // its Decoder's next decision
+                // (pop_at: the link position at which its coast pops its head entry)
+                std::uint32_t occupancy = c.sphere_fifo.size(), most = occupancy, pop_at = co.on ? head_end() : ~0u;
+                std::uint64_t took = 0, held = 0, blocked = 0, received = 0;
+                // (short of either stream's last record: the steps see the pass end)
+                while (occupancy && sphere_link.position() + 1 < sphere_link.end() &&
+                       triangle_link.position() + 1 < triangle_link.end() && cycle >= cfg_.triangle_lag_cycles &&
+                       since_sync_ + 1 < cfg_.sync_cycles) {
+                    const std::uint32_t tp_now = std::uint32_t(triangle_link.position());
+                    if (!waiting.empty() && waiting.min_key() <= tp_now) break;
+                    const std::uint32_t ts_now = triangle_memory.sphere_of(tp_now);
+                    if (x <= ts_now || (n_ref && rd.decided() <= ts_now)) break;
+                    if (rp.has_output() && !kept_at.empty() && kept_at.min_key() <= rp.output().sphere) break;
+                    const std::uint32_t kept_next = next_queued(k, x);
+                    if (kept_next >= x + kMinCruise) break;  // (it would cruise: the steps skip further)
+                    // The cycles up to its coast's next pop: it holds (d: how many,
+                    // bounded as the per-cycle checks above would end them).
+                    const bool holds_on = kept_next == x && f.full() && tp_now + 1 < pop_at;
+                    auto held_for = [&](std::uint64_t d) {
+                        d = std::min<std::uint64_t>(d, std::min(pop_at - 1, info.first_tri(x)) - tp_now);
+                        if (!waiting.empty()) d = std::min<std::uint64_t>(d, waiting.min_key() - tp_now);
+                        if (n_ref && rd.decided() < sphere_memory.size())
+                            d = std::min<std::uint64_t>(d, info.first_tri(rd.decided()) - tp_now);
+                        d = std::min<std::uint64_t>(d, triangle_link.end() - 1 - tp_now);
+                        return std::min<std::uint64_t>(d, cfg_.sync_cycles - 1 - since_sync_);
+                    };
+                    // ... while its Sphere FIFO fills and the shared side streams
+                    // steadily (its hand-overs bound them as in the skips).
+                    if (holds_on && occupancy < s_depth && rp.batches() == 1 && rp.in_flight() == stages &&
+                        rp.has_output() && !rf.empty() && !rf.full()) {
+                        std::uint64_t d = held_for(s_depth - occupancy);
+                        d = std::min<std::uint64_t>(d, sphere_link.end() - 1 - sphere_link.position());
+                        if (!kept_at.empty()) d = std::min<std::uint64_t>(d, kept_at.min_key() - rp.output().sphere);
+                        if (d >= 2) {
+                            sphere_memory.read_many(d);
+                            sphere_link.sent_many(d);
+                            rp.fast_forward(d, rf.front());
+                            rf.advance(std::uint32_t(d));
+                            rd.set_decided(rd.decided() + std::uint32_t(d));
+                            triangle_memory.read_many(d);
+                            triangle_link.sent_many(d);
+                            occupancy += std::uint32_t(d);
+                            most = std::max(most, occupancy);
+                            received += d;
+                            held += d;
+                            cycle += d;
+                            since_sync_ += d;
+                            continue;
+                        }
+                    }
+                    // Frozen up to its coast's next pop: it holds and its full Sphere FIFO
+                    // stops the stream; the shared side decides what it holds (its
+                    // hand-overs come later: every sphere in it was broadcast) and idles.
+                    if (holds_on && occupancy == s_depth &&
+                        (kept_at.empty() || kept_at.min_key() >= sphere_link.position())) {
+                        const std::uint64_t d = held_for(~std::uint64_t(0));
+                        no_sphere_cycles += d;
+                        sphere_link.stalled(d);
+                        std::uint64_t drain = 0;
+                        for (; drain < d && !(rf.empty() && rp.drained()); ++drain) {
+                            lazy_sphere_blocked += n_ref && rf.full();
+                            tick_shared_side(true);
+                        }
+                        rp.add_starved(d - drain);
+                        rp.idle(d - drain);
+                        triangle_memory.read_many(d);
+                        triangle_link.sent_many(d);
+                        blocked += d;
+                        held += d;
+                        cycle += d;
+                        since_sync_ += d;
+                        continue;
+                    }
+                    const bool ref_full = n_ref && rf.full();
+                    const bool s_ok = occupancy < s_depth && !ref_full;
+                    lazy_sphere_blocked += ref_full;
+                    blocked += occupancy == s_depth;
+                    std::int64_t s = -1, t = -1;
+                    broadcast(true, s_ok, true, true, s, t);
+                    const bool spheres_pending = sphere_link.has_record();
+                    if (s < 0) ++no_sphere_cycles;
+                    tick_shared_side(spheres_pending);
+                    if (s >= 0) {
+                        rf.push(std::uint32_t(s));
+                        ref_max = std::max<std::uint64_t>(ref_max, rf.size());
+                    }
+                    if (std::uint32_t(t) + 1 >= pop_at) {  // its coast passes the end of its head entry
+                        catch_up(k, std::uint32_t(t) + 1);
+                        pop_at = head_end();
+                    }
+                    bool takes = true;
+                    if (next_queued(k, x) == x) {  // kept
+                        if (f.full()) {
+                            takes = false;
+                            ++held;
+                        } else {
+                            const Queued& q = queued[k];
+                            const bool paired = q.hit < hits.size() && hits[q.hit].sphere == x;
+                            const PlaneIdEntry masks = paired ? PlaneIdEntry{hits[q.hit].rows, hits[q.hit].cols} : PlaneIdEntry{};
+                            c.planeid_fifo.push(masks);
+                            f.push(info.entry(x));
+                            c.decoder.note_hit(!paired);
+                            if (f.size() == 1) {  // (its FIFOs were empty)
+                                if (co.on) pop_at = head_end();
+                                else waiting.push(f.front().first, k);
+                            }
+                        }
+                    }
+                    if (takes) {
+                        ++x;
+                        ++took;
+                        --occupancy;
+                    }
+                    if (s >= 0) {
+                        ++occupancy;
+                        ++received;
+                    }
+                    most = std::max(most, occupancy);
+                    ++cycle;
+                    ++since_sync_;
+                }
+                if (took || held) {
+                    c.psi.cruise(took);
+                    c.psi.add_stalled(held);
+                    c.sphere_fifo.cruise(std::uint32_t(took), std::uint32_t(received));
+                    c.sphere_fifo.note_occupancy(most);
+                    c.decoder.set_decided(x);
+                    c.decoder.note_held(held);
+                    c.planeid_fifo.note_full(held);
+                    f.note_full(held);
+                    c.note_sphere_blocked(blocked);
+                    continue;
+                }
             }
         }
 

@@ -131,6 +131,10 @@ public:
         count_ = count_ - popped + pushed;
         stats_.pushes += pushed;
     }
+    // Event-driven simulation: it held `occupancy` entries at some point of such a run.
+    void note_occupancy(std::uint32_t occupancy) {
+        if (occupancy > stats_.max_occupancy) stats_.max_occupancy = occupancy;
+    }
     // Event-driven simulation: spheres first, first+1, ... (n of them)
     // pushed one per cycle with no pop between them.
     void push_run(std::uint32_t first, std::uint32_t n) {
