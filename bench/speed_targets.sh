@@ -19,17 +19,21 @@
 #      (minutes). With --hd or --hd-sample only these frames are run.
 #      --hd-jobs N: the exact frames with simulate --jobs N (N shard processes
 #      fed by one front end, docs/SHARDING.md); then the peak memory is the
-#      whole process tree's, summed every 2 s.
+#      whole process tree's, summed every 2 s. --hd-frame SCENE:WxH (repeatable):
+#      only these frames (e.g. conference:1920x1080).
 # The front end against Embree is bench/bench_frontend.cpp (see PERFORMANCE.md).
 # --reading both|any: the Triangle Selector reading (icc.triangle_select;
 # default: the config's, any).
-#   bench/speed_targets.sh [--big] [--hd | --hd-sample F | --hd-jobs N] [--reading both|any] [build/raplas]
+#   bench/speed_targets.sh [--big] [--hd | --hd-sample F | --hd-jobs N] [--hd-frame SCENE:WxH]...
+#                          [--reading both|any] [build/raplas]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 big=0
 hd=0
 hd_sample=()
 hd_jobs=()
+frames=("conference 1920 1080" "conference 1280 720" "bunny 1920 1080" "sportscar 1920 1080")
+picked=()
 raplas=build/raplas
 reading=any
 while [[ $# -gt 0 ]]; do
@@ -38,6 +42,9 @@ while [[ $# -gt 0 ]]; do
     --hd) hd=1 ;;
     --hd-sample) hd=1; hd_sample=(--set sim.estimate=sample_passes --set "sim.sample_fraction=$2" --sample-front-end); shift ;;
     --hd-jobs) hd=1; hd_jobs=(--jobs "$2"); shift ;;
+    --hd-frame)
+      [[ $2 =~ ^([a-z_]+):([0-9]+)x([0-9]+)$ ]] || { echo "speed_targets.sh: --hd-frame wants SCENE:WxH, got '$2'" >&2; exit 2; }
+      picked+=("${BASH_REMATCH[1]} ${BASH_REMATCH[2]} ${BASH_REMATCH[3]}"); shift ;;
     --reading) reading=$2; shift ;;
     *) raplas=$1 ;;
   esac
@@ -95,7 +102,8 @@ fi
 
 # 4. real-resolution frames
 if [[ $hd == 1 ]]; then
-  for frame in "conference 1920 1080" "conference 1280 720" "bunny 1920 1080" "sportscar 1920 1080"; do
+  [[ ${#picked[@]} -gt 0 ]] && frames=("${picked[@]}")
+  for frame in "${frames[@]}"; do
     read -r scene w h <<<"$frame"
     l0=$(load)
     /usr/bin/time -v "$raplas" simulate --scene "scenes/$scene.toml" "${sel[@]}" --set "image.width=$w" \
