@@ -788,6 +788,19 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         rp.idle(d);
         for (std::uint32_t k : individuals) active[k]->psi.idle(d);
     };
+    // d skipped cycles of a steady sphere stream on the shared side (a sphere in and a decision out each).
+    auto spheres_stream = [&](std::uint64_t d) {
+        sphere_memory.read_many(d);
+        sphere_link.sent_many(d);
+        rp.fast_forward(d, rf.front());
+        rf.advance(std::uint32_t(d));
+        rd.set_decided(rd.decided() + std::uint32_t(d));
+    };
+    // d skipped cycles that each send a triangle.
+    auto triangles_flow = [&](std::uint64_t d) {
+        triangle_memory.read_many(d);
+        triangle_link.sent_many(d);
+    };
     // Moves past d skipped cycles, the simulated time kept in step as a stepped cycle keeps it.
     auto skip = [&](std::uint64_t d) {
         cycle += d;
@@ -907,11 +920,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
             if ((t_flows || t_held) && (s_steady || s_done || s_frozen) && d > 1) {
                 --d;  // the event cycle itself is stepped normally
                 if (s_steady) {
-                    sphere_memory.read_many(d);
-                    sphere_link.sent_many(d);
-                    rp.fast_forward(d, rf.front());
-                    rf.advance(std::uint32_t(d));
-                    rd.set_decided(rd.decided() + std::uint32_t(d));
+                    spheres_stream(d);
                 } else if (s_frozen) {
                     no_sphere_cycles += d;
                     sphere_link.stalled(d);
@@ -922,8 +931,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                     spheres_idle(d);
                 }
                 if (t_flows) {
-                    triangle_memory.read_many(d);
-                    triangle_link.sent_many(d);
+                    triangles_flow(d);
                 } else {
                     triangle_link.stalled(d);
                     note_held(d, tri_blocker);
@@ -989,19 +997,13 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                         d = std::min<std::uint64_t>(d, sphere_link.end() - 1 - sphere_link.position());
                         if (!kept_at.empty()) d = std::min<std::uint64_t>(d, kept_at.min_key() - rp.output().sphere);
                         if (d >= 2) {
-                            sphere_memory.read_many(d);
-                            sphere_link.sent_many(d);
-                            rp.fast_forward(d, rf.front());
-                            rf.advance(std::uint32_t(d));
-                            rd.set_decided(rd.decided() + std::uint32_t(d));
-                            triangle_memory.read_many(d);
-                            triangle_link.sent_many(d);
+                            spheres_stream(d);
+                            triangles_flow(d);
                             occupancy += std::uint32_t(d);
                             most = std::max(most, occupancy);
                             received += d;
                             held += d;
-                            cycle += d;
-                            since_sync_ += d;
+                            skip(d);  // (short of a watchdog look)
                             continue;
                         }
                     }
@@ -1020,12 +1022,10 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                         }
                         rp.add_starved(d - drain);
                         rp.idle(d - drain);
-                        triangle_memory.read_many(d);
-                        triangle_link.sent_many(d);
+                        triangles_flow(d);
                         blocked += d;
                         held += d;
-                        cycle += d;
-                        since_sync_ += d;
+                        skip(d);
                         continue;
                     }
                     const bool ref_full = n_ref && rf.full();
@@ -1073,8 +1073,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                         ++received;
                     }
                     most = std::max(most, occupancy);
-                    ++cycle;
-                    ++since_sync_;
+                    skip(1);
                 }
                 if (took || held) {
                     c.psi.cruise(took);
