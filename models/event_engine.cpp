@@ -1046,7 +1046,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                         pop_at = head_end();
                     }
                     bool takes = true;
-                    if (next_queued(k, x) == x) {  // kept
+                    if (kept_next == x) {  // kept
                         if (f.full()) {
                             takes = false;
                             ++held;
