@@ -46,7 +46,7 @@ with tempfile.TemporaryDirectory() as tmp:
             policy = rng.choice(['any_full', 'needed_full'])
             latency = rng.choice([0, 2]) if policy == "any_full" and fifo > 2 else 0
             resume = rng.choice([-1, 0]) if fifo - latency > 1 else -1
-            cfg = ["--iccs", str(rng.choice([1, 2, 5, 16])), "--fifo", str(fifo),
+            cfg = ["--iccs", str(rng.choice([1, 2, 5, 16])), "--set", f"fifo.triangle_depth={fifo}",
                    "--set", f"fifo.planeid_depth={rng.choice([1, 4, 1000])}",
                    "--set", f"fifo.sphere_depth={rng.choice([1, 10, 1000])}",
                    "--set", f"host.pass_overhead_cycles={rng.choice([0, 0, 5])}",
@@ -87,7 +87,7 @@ with tempfile.TemporaryDirectory() as tmp:
             # Deep FIFOs: the exact run must equal the bound pass for pass.
             # (two passes' worth: with overlapped passes a FIFO holds the previous pass's triangles too)
             deep = 2 * max(exact["triangles"], exact["spheres"]) + 1
-            deep_cfg = cfg[:3] + [str(deep)] + cfg[4:] + ["--set", f"fifo.planeid_depth={deep}"]  # --fifo sets the Triangle FIFO
+            deep_cfg = cfg + ["--set", f"fifo.triangle_depth={deep}", "--set", f"fifo.planeid_depth={deep}"]
             check(run(tmp, trace, deep_cfg)["pass_cycles"] == b, f"{what}: deep FIFOs, exact != bound")
             print(f"{what}: exact {exact['total_cycles']}, bound {bound['total_cycles']}"
                   f"{'' if filled else ' (no FIFO filled: equal)'}")

@@ -1415,8 +1415,7 @@ def reading_rows(c, name, sets, sphere_fixed, baseline_reading=None):
     else:
         st = c.sweep(f"readings_{name}", p.iccs, p.fifos, sets, raw=True)
     if p.readings_beyond:
-        st.update(c.sweep(f"readings_{name}_beyond", p.readings_beyond, [F],
-                          sets + ([f"fifo.sphere_depth={F}"] if sphere_fixed else []), raw=True))
+        st.update(c.sweep(f"readings_{name}_beyond", p.readings_beyond, [F], sets, raw=True))  # (--fifo F: both at F)
     select = [x for x in sets if x.startswith("icc.triangle_select=")]
     if baseline_reading:
         select = [f"icc.triangle_select={baseline_reading}"]

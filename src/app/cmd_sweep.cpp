@@ -241,6 +241,9 @@ Sweep make_sweep(const SweepArgs& a, const std::string& wd) {
         if (set == 0) {
             mp.set(assignment);
             sw.config_sets.push_back(assignment);
+            const std::string k = key_of(assignment);
+            if ((k == "fifo.sphere_depth" || k == "fifo.triangle_depth") && !a.fifo.empty())
+                throw InputError("--set " + k + ": --fifo sets it too; give one or the other");
         } else {
             sp.set(assignment);
             sw.scene_sets.push_back(assignment);
