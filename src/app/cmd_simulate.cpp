@@ -38,7 +38,7 @@ void add_simulate_options(CLI::App* cmd, SimulateArgs& a) {
     a.so.add_to(cmd, false);
     cmd->add_option("--config,-c", a.config, "machine config: a TOML file or the name of a shipped one (paper, fpga)");
     cmd->add_option("--trace", a.trace, "simulate a trace file written by 'raplas trace' instead of a scene");
-    cmd->add_option("--iccs,-k", a.iccs, "ICC count (overrides machine.iccs)")->check(count_check(4096, false));
+    cmd->add_option("--iccs,-k", a.iccs, "ICC count (sets machine.iccs; not with --set of it)")->check(count_check(4096, false));
     cmd->add_option("--fifo,-d", a.fifo, "Sphere and Triangle FIFO depth (sets fifo.sphere_depth and fifo.triangle_depth; not with --set of either)")
         ->check(count_check(100000000, false));
     cmd->add_option("--json", a.json, "all statistics as JSON");
@@ -151,10 +151,12 @@ int cmd_simulate(const SimulateArgs& a) {
             so.sets.push_back(assignment);
         }
     }
-    // --fifo sets both depths: a depth also given with --set would be silently overridden.
-    for (const auto& k : config_keys)
+    // --iccs and --fifo set keys: the same key also given with --set would be silently overridden.
+    for (const auto& k : config_keys) {
+        if (a.iccs && k == "machine.iccs") throw InputError("--set " + k + ": --iccs sets it too; give one or the other");
         if (a.fifo && (k == "fifo.sphere_depth" || k == "fifo.triangle_depth"))
             throw InputError("--set " + k + ": --fifo sets it too; give one or the other");
+    }
     if (a.iccs) config_args.insert(config_args.end(), {"--iccs", std::to_string(a.iccs)});
     if (a.fifo) config_args.insert(config_args.end(), {"--fifo", std::to_string(a.fifo)});
     config_args.insert(config_args.end(), {"--window", std::to_string(a.window)});

@@ -244,6 +244,8 @@ Sweep make_sweep(const SweepArgs& a, const std::string& wd) {
             const std::string k = key_of(assignment);
             if ((k == "fifo.sphere_depth" || k == "fifo.triangle_depth") && !a.fifo.empty())
                 throw InputError("--set " + k + ": --fifo sets it too; give one or the other");
+            if (k == "machine.iccs" && !a.iccs.empty())
+                throw InputError("--set " + k + ": --iccs sets it too; give one or the other");
         } else {
             sp.set(assignment);
             sw.scene_sets.push_back(assignment);
