@@ -433,6 +433,13 @@ CLI::Validator count_check(std::uint32_t max, bool list) {
     return CLI::Validator(check, list ? "1.." + std::to_string(max) + ",..." : "1.." + std::to_string(max));
 }
 
+void check_not_set_by_option(const std::string& key, bool iccs_given, bool fifo_given) {
+    const char* option = nullptr;
+    if (iccs_given && key == "machine.iccs") option = "--iccs";
+    if (fifo_given && (key == "fifo.sphere_depth" || key == "fifo.triangle_depth")) option = "--fifo";
+    if (option) throw InputError("--set " + key + ": " + option + " sets it too; give one or the other");
+}
+
 std::vector<std::uint32_t> count_list(const std::vector<std::string>& texts) {
     std::vector<std::uint32_t> v;
     for (const auto& t : texts)

@@ -151,12 +151,7 @@ int cmd_simulate(const SimulateArgs& a) {
             so.sets.push_back(assignment);
         }
     }
-    // --iccs and --fifo set keys: the same key also given with --set would be silently overridden.
-    for (const auto& k : config_keys) {
-        if (a.iccs && k == "machine.iccs") throw InputError("--set " + k + ": --iccs sets it too; give one or the other");
-        if (a.fifo && (k == "fifo.sphere_depth" || k == "fifo.triangle_depth"))
-            throw InputError("--set " + k + ": --fifo sets it too; give one or the other");
-    }
+    for (const auto& k : config_keys) check_not_set_by_option(k, a.iccs != 0, a.fifo != 0);
     if (a.iccs) config_args.insert(config_args.end(), {"--iccs", std::to_string(a.iccs)});
     if (a.fifo) config_args.insert(config_args.end(), {"--fifo", std::to_string(a.fifo)});
     config_args.insert(config_args.end(), {"--window", std::to_string(a.window)});

@@ -241,11 +241,7 @@ Sweep make_sweep(const SweepArgs& a, const std::string& wd) {
         if (set == 0) {
             mp.set(assignment);
             sw.config_sets.push_back(assignment);
-            const std::string k = key_of(assignment);
-            if ((k == "fifo.sphere_depth" || k == "fifo.triangle_depth") && !a.fifo.empty())
-                throw InputError("--set " + k + ": --fifo sets it too; give one or the other");
-            if (k == "machine.iccs" && !a.iccs.empty())
-                throw InputError("--set " + k + ": --iccs sets it too; give one or the other");
+            check_not_set_by_option(key_of(assignment), !a.iccs.empty(), !a.fifo.empty());
         } else {
             sp.set(assignment);
             sw.scene_sets.push_back(assignment);

@@ -68,6 +68,10 @@ std::string resolve_config(const std::string& name);
 CLI::Validator count_check(std::uint32_t max, bool list);
 // The integers of texts that passed count_check(max, true).
 std::vector<std::uint32_t> count_list(const std::vector<std::string>& texts);
+// A config key given with --set that --iccs or --fifo, also given, would
+// override without a word (machine.iccs; fifo.sphere_depth or
+// fifo.triangle_depth) is refused: one line naming both.
+void check_not_set_by_option(const std::string& key, bool iccs_given, bool fifo_given);
 
 void add_simulate_options(CLI::App* cmd, SimulateArgs& a);
 int cmd_simulate(const SimulateArgs& a);
