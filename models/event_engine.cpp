@@ -51,13 +51,23 @@
 //     FIFO, only counts change and its Sphere FIFO takes the spheres
 //     broadcast, up to full. It is left out of the per-cycle steps; the links
 //     see it through the link position at which its Sphere FIFO fills and its
-//     decision count, and its counts are settled when it wakes.
+//     decision count, and its counts are settled when it wakes. A dozer that
+//     coasts (4.) wakes too when its coast takes the last triangle of its
+//     FIFOs' head entry, when that comes before the coast's end: it waits for
+//     that triangle in a queue of its own.
 //  7. An ICC stepped on its own whose pipe streams (one batch per sphere,
 //     a full pipe, its Sphere FIFO neither empty nor full) decides one
 //     sphere a cycle until its Sphere FIFO runs dry (once the sphere stream
 //     has stood still in as many cycles as that FIFO held) or its next
 //     queued sphere leaves the pipe: it "cruises", left out of the per-cycle
-//     steps, and is brought up to date in one step then.
+//     steps, and is brought up to date in one step then. With
+//     link.stall_policy = any_full (the link then reads no ICC's FIFOs) a
+//     cruise also passes as many kept spheres as its PlaneID and
+//     First-Triangle-ID FIFOs have room for (pops only add to it), and ends
+//     at the next, where its Decoder may hold. Each is pushed when its FIFOs
+//     are read, before the pops of later cycles (the triangle stream's sends
+//     are kept as runs of cycles, which places a coast's pops), so that the
+//     FIFOs' largest occupancy comes out as in the steps.
 //     The skips of 3. run past dozers and cruisers, stopping short of a
 //     dozer's Sphere FIFO filling, a cruise's end or its FIFO running dry.
 //     The sphere stream is steady too when no ICC is on the shared pipeline
@@ -191,6 +201,27 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     BucketQueue& waiting = wait_queue_;
     waiting.reset(triangle_memory.size(), na);
     std::vector<std::uint32_t> selecting, individuals, full_now, diverged;
+    // ICC k is in `waiting` for a kept sphere a cruise (7.) has still to
+    // queue: the path that queues it into its empty FIFOs does not add it again.
+    std::vector<std::uint8_t> wait_ahead(na, 0);
+    auto wait_for = [&](std::uint32_t k, std::uint32_t tri) {
+        if (wait_ahead[k]) return;
+        waiting.push(tri, k);
+    };
+    // The triangle stream's sends in this pass, as runs in consecutive
+    // cycles (first position, its cycle): the cycle a triangle was sent.
+    std::vector<std::pair<std::uint32_t, std::uint64_t>> sent_runs;
+    auto note_sent = [&](std::uint64_t pos, std::uint64_t c) {
+        if (sent_runs.empty() || c - sent_runs.back().second != pos - sent_runs.back().first)
+            sent_runs.push_back({std::uint32_t(pos), c});
+    };
+    auto sent_cycle = [&](std::uint32_t pos) {
+        auto r = sent_runs.end() - 1;  // (mostly a recent send: the last runs first)
+        for (int i = 0; i < 4 && r->first > pos; ++i) --r;
+        if (r->first > pos)
+            r = std::upper_bound(sent_runs.begin(), r, pos, [](std::uint32_t x, const auto& e) { return x < e.first; }) - 1;
+        return r->second + (pos - r->first);
+    };
     // The Triangle FIFOs' holds on the triangle stream (TriangleSelector::hold):
     // ICC k's FIFO stops the link in cycles `from` to `until`. A hold is up
     // at the start of the cycles from the one after the push that raised it
@@ -376,6 +407,22 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         c.decoder.note_hit(false, pairs);
         c.decoder.note_hit(true, pairless);
     };
+    // A cruise that queues kept spheres (7.): ICC k, individual, decides
+    // sphere d0 + i in cycle c0 + i and queues the kept ones from its cursor
+    // (kept[k], lazy[k].has) without being touched; they are pushed when its
+    // FIFOs are read, each before the pops of later cycles, so that the
+    // FIFOs' largest occupancy is as the cycle-by-cycle steps leave it.
+    struct Ahead {
+        bool on = false;
+        std::uint32_t d0 = 0;
+        std::uint64_t c0 = 0;
+    };
+    std::vector<Ahead> ahead(na);
+    // Pushes the kept spheres ICC k decided before cycle c.
+    auto push_ahead = [&](std::uint32_t k, std::uint64_t c) {
+        const Ahead& a = ahead[k];
+        if (a.on) push_lazy(k, c <= a.c0 ? a.d0 : std::uint32_t(a.d0 + (c - a.c0)));
+    };
     // Coasting ICC k has taken every triangle of its entries below `upto`
     // (the link's position): those from `pos` on are counted, and the
     // entries whose last triangle is among them popped. (Every sphere with a
@@ -388,7 +435,11 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         Icc& icc = *active[k];
         Fifo<FirstTriEntry>& f = icc.first_tri_fifo;
         std::uint32_t taken = 0;
-        while (!f.empty()) {  // (the entry of `next` stays: it ends past `upto`)
+        for (;;) {  // (the entry of `next` stays: it ends past `upto`)
+            if (f.empty()) {  // (a coast begun on the shared side takes spheres a cruise has still to queue)
+                if (!ahead[k].on || !lazy[k].has || info.first_tri(kept[k].sphere) >= upto) break;
+                push_lazy(k, kept[k].sphere + 1);
+            }
             const FirstTriEntry& e = f.front();
             const std::uint32_t from = std::max(e.first, co.pos), end = e.first + e.count;
             if (end > upto) {
@@ -396,6 +447,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 break;
             }
             if (end > from) taken += end - from;
+            if (ahead[k].on) push_ahead(k, sent_cycle(end - 1));  // (what it queued before that pop's cycle)
             f.pop();
             icc.planeid_fifo.pop();
         }
@@ -499,6 +551,27 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         z.from = held_end;
         z.spos = spos;
     };
+    // A dozing ICC that coasts wakes when its coast takes the last triangle
+    // of its FIFOs' head entry (when that comes before the coast's end): it
+    // is in `coast_pops` at that triangle. (The queue holds an ICC once: an
+    // entry it has left behind is moved on to the triangle it waits for now
+    // when it comes up, or dropped.)
+    BucketQueue& coast_pops = coast_pop_queue_;
+    coast_pops.reset(triangle_memory.size(), na);
+    constexpr std::uint32_t kNoPop = ~std::uint32_t(0);
+    std::vector<std::uint32_t> pop_wanted(na, kNoPop);
+    std::vector<std::uint8_t> in_pops(na, 0);
+    auto wait_coast_pop = [&](std::uint32_t k) {
+        const Coast& co = coast[k];
+        const Fifo<FirstTriEntry>& f = active[k]->first_tri_fifo;
+        pop_wanted[k] = kNoPop;
+        if (!co.on || f.empty() || f.front().first + f.front().count > co.next) return;
+        pop_wanted[k] = f.front().first + f.front().count - 1;
+        if (!in_pops[k]) {
+            coast_pops.push(pop_wanted[k], k);
+            in_pops[k] = 1;
+        }
+    };
     // ICC k, individual, after its step in cycle c, holds: it dozes from cycle c + 1.
     auto start_doze = [&](std::uint32_t k, std::uint64_t c) {
         const Icc& icc = *active[k];
@@ -517,6 +590,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         dozing[k] = 1;
         dozers.push_back(k);
         doze_bounds();
+        wait_coast_pop(k);
     };
     // Dozing ICC k wakes in cycle c, after the link decisions (its FIFOs
     // popped by a selection); `s`: the sphere broadcast in c (-1: none),
@@ -525,6 +599,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         settle(k, c, c + 1, sphere_link.position() - (s >= 0 ? 1 : 0));
         if (doze[k].full_from != kNever) --dozers_full;
         dozing[k] = 0;
+        pop_wanted[k] = kNoPop;
         dozers.erase(std::find(dozers.begin(), dozers.end(), k));
         individuals.push_back(k);
         doze_bounds();
@@ -600,6 +675,26 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         q.known = true;
         return x;
     };
+    // The kept sphere of ICC k after the first `count` from sphere `from` on
+    // (the sphere count if none); `at`: its cursor at `from`. (Not with
+    // link.stall_policy = needed_full, whose link reads the FIFOs of an ICC
+    // with a full Triangle FIFO.)
+    const bool may_queue_ahead = cfg_.fault == Fault::none && any_full;
+    constexpr std::uint32_t kAheadScan = 256;
+    auto kept_after = [&](std::uint32_t k, std::uint32_t from, std::uint32_t count, KeptSpheres& at) {
+        KeptSpheres e(*queued[k].hits, keep_pairless ? queued[k].runs : nullptr);
+        e.seek(from);
+        at = e;
+        bool more = e.next();
+        while (more && count) {  // (e.sphere is the next kept one)
+            const std::uint32_t run = e.run_left();  // (the spheres of its run after it)
+            if (run >= count) return e.sphere + count;
+            count -= run + 1;
+            if (run) e.skip(run);
+            more = e.next();
+        }
+        return more ? e.sphere : std::uint32_t(sphere_memory.size());
+    };
     // Cruising ICC k brought up to the start of cycle c (the sphere link now at its position then).
     auto land = [&](std::uint32_t k, std::uint64_t c) {
         const Cruise& z = cruise[k];
@@ -611,6 +706,11 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         // (a coasting ICC's FIFOs are popped as the triangle stream passes, as
         // the per-cycle steps would have done by now: the skip reads them)
         if (coast[k].on) catch_up(k, std::uint32_t(triangle_link.position()));
+        if (ahead[k].on) {
+            push_ahead(k, c);
+            ahead[k].on = false;
+            lazy[k].has = false;
+        }
         cruising[k] = 0;
         individuals.push_back(k);
     };
@@ -798,6 +898,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     };
     // d skipped cycles that each send a triangle.
     auto triangles_flow = [&](std::uint64_t d) {
+        note_sent(triangle_link.position(), cycle);
         triangle_memory.read_many(d);
         triangle_link.sent_many(d);
     };
@@ -866,8 +967,10 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                                   s_has && rp.batches() == 1 && rp.in_flight() == stages && rp.has_output() &&
                                   !rf.empty() && !rf.full();
             bool s_done = !s_has && rf.empty() && rp.in_flight() == 0 && dozers.empty() && cruisers.empty();
-            bool s_frozen = s_has && !(individuals.empty() && dozers.empty()) && rf.empty() && rp.drained() &&
-                            doze_decided > ts;
+            // (with no ICC on it and no hand-over due, the shared side runs dry in the skip as the steps
+            // would run it: nothing reads it meanwhile)
+            bool s_frozen = s_has && !(individuals.empty() && dozers.empty()) &&
+                            ((rf.empty() && rp.drained()) || (n_ref == 0 && kept_at.empty())) && doze_decided > ts;
             bool stops_spheres = dozers_full > 0;
             std::uint32_t min_decided = std::min(n_ref ? rd.decided() : ~std::uint32_t(0), doze_decided);
             for (std::uint32_t k : individuals) {
@@ -892,6 +995,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
             if (t_flows) {
                 d = triangle_link.end() - tp;
                 if (!waiting.empty()) d = std::min<std::uint64_t>(d, waiting.min_key() - tp);
+                if (!coast_pops.empty()) d = std::min<std::uint64_t>(d, coast_pops.min_key() - tp);
                 if (raised != kNever) d = std::min<std::uint64_t>(d, raised - cycle);
             } else if (!full_now.empty()) {
                 for (std::uint32_t k : full_now) t_held = t_held || tri_blocker(k);
@@ -924,8 +1028,10 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 } else if (s_frozen) {
                     no_sphere_cycles += d;
                     sphere_link.stalled(d);
-                    rp.add_starved(d);
-                    rp.idle(d);
+                    std::uint64_t drain = 0;
+                    for (; drain < d && !(rf.empty() && rp.drained()); ++drain) tick_shared_side(true);
+                    rp.add_starved(d - drain);
+                    rp.idle(d - drain);
                     for (std::uint32_t k : individuals) active[k]->hold_front(d);
                 } else {
                     spheres_idle(d);
@@ -1034,6 +1140,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                     blocked += occupancy == s_depth;
                     std::int64_t s = -1, t = -1;
                     broadcast(true, s_ok, true, true, s, t);
+                    if (t >= 0) note_sent(std::uint64_t(t), cycle);
                     const bool spheres_pending = sphere_link.has_record();
                     if (s < 0) ++no_sphere_cycles;
                     tick_shared_side(spheres_pending);
@@ -1059,7 +1166,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                             c.decoder.note_hit(!paired);
                             if (f.size() == 1) {  // (its FIFOs were empty)
                                 if (co.on) pop_at = head_end();
-                                else waiting.push(f.front().first, k);
+                                else wait_for(k, f.front().first);
                             }
                         }
                     }
@@ -1120,6 +1227,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         }
         std::int64_t s = -1, t = -1;
         broadcast(s_has, s_ok, t_has, t_ok, s, t);
+        if (t >= 0) note_sent(std::uint64_t(t), cycle);
         const bool spheres_pending = sphere_link.has_record();
         if (s < 0) ++no_sphere_cycles;
         if (s >= 0 && sphere_link.position() >= doze_fill) {  // a dozer's Sphere FIFO is full from the next cycle
@@ -1134,6 +1242,21 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
 
         // ---- triangle selection ------------------------------------------
         if (t >= 0) {
+            while (!coast_pops.empty() && coast_pops.min_key() <= std::uint32_t(t)) {
+                const std::uint32_t key = coast_pops.min_key();
+                coast_pops.pop_min([&](std::uint32_t k) {
+                    in_pops[k] = 0;
+                    if (!dozing[k] || pop_wanted[k] == kNoPop) return;
+                    if (pop_wanted[k] > key) {  // (an entry left behind)
+                        coast_pops.push(pop_wanted[k], k);
+                        in_pops[k] = 1;
+                        return;
+                    }
+                    pop_wanted[k] = kNoPop;
+                    catch_up(k, std::uint32_t(t) + 1);  // its head entry's last triangle, taken this cycle
+                    wake(k, cycle, s);
+                });
+            }
             while (!waiting.empty() && waiting.min_key() <= std::uint32_t(t))
                 waiting.pop_min([&](std::uint32_t k) {
                     if (lazy[k].on) push_lazy(k, rd.decided());
@@ -1141,11 +1264,14 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                         catch_up(k, std::uint32_t(t));
                         end_coast(k, cycle);
                     }
+                    push_ahead(k, cycle);
+                    wait_ahead[k] = 0;
                     selecting.push_back(k);
                 });
             for (std::size_t i = 0; i < selecting.size();) {
                 const std::uint32_t k = selecting[i];
                 if (lazy[k].on) push_lazy(k, rd.decided());  // (so that a coast can cover the whole run)
+                push_ahead(k, cycle);
                 const bool coasts = select(k, std::uint32_t(t), cycle);
                 if (dozing[k] && (coasts || !(active[k]->planeid_fifo.full() || active[k]->first_tri_fifo.full())))
                     wake(k, cycle, s);
@@ -1159,6 +1285,10 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 if (f.empty() || f.front().sphere != ts) {
                     if (!f.empty()) waiting.push(f.front().first, k);
                     else if (lazy[k].on && lazy[k].has) waiting.push(info.first_tri(kept[k].sphere), k);  // (not decided yet)
+                    else if (ahead[k].on && lazy[k].has) {
+                        waiting.push(info.first_tri(kept[k].sphere), k);
+                        wait_ahead[k] = 1;
+                    }
                     selecting[i] = selecting.back();
                     selecting.pop_back();
                 } else {
@@ -1205,7 +1335,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                     c.planeid_fifo.push(masks);
                     c.first_tri_fifo.push(info.entry(x));
                     c.decoder.note_hit(!(masks.rows && masks.cols));
-                    if (was_empty) waiting.push(info.first_tri(x), k);
+                    if (was_empty) wait_for(k, info.first_tri(x));
                     if (may_lazy) {  // the spheres after it, lazily
                         lazy[k].has = e.next();
                         arm_lazy(k, x);
@@ -1228,7 +1358,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
             if (coast[k].on) catch_up(k, std::uint32_t(triangle_link.position()));
             const bool was_empty = c.first_tri_fifo.empty() && !coast[k].on;
             c.tick_front(s, info, spheres_pending);
-            if (was_empty && !c.first_tri_fifo.empty()) waiting.push(c.first_tri_fifo.front().first, k);
+            if (was_empty && !c.first_tri_fifo.empty()) wait_for(k, c.first_tri_fifo.front().first);
             if (may_rejoin(k)) {  // (the order of `individuals` changes no figure)
                 role[k] = ref;
                 ++n_ref;
@@ -1240,9 +1370,8 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 individuals.pop_back();
                 continue;
             }
-            // (a coast whose run has passed pops nothing more before its next selection)
-            if (may_doze && !(coast[k].on && coast[k].pos < coast[k].next) && !lazy[k].on && !c.psi.stuck() &&
-                c.decoder_holds()) {
+            // (a coast's pops wake it: `coast_pops`)
+            if (may_doze && !lazy[k].on && !c.psi.stuck() && c.decoder_holds()) {
                 start_doze(k, cycle);
                 individuals[i] = individuals.back();
                 individuals.pop_back();
@@ -1251,8 +1380,24 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
             if (may_cruise && !lazy[k].on && !c.psi.stuck() && c.psi.in_flight() == stages && c.psi.free_to_issue() &&
                 c.psi.has_output() && !c.sphere_fifo.empty() && !c.sphere_fifo.full()) {
                 const std::uint32_t d0 = c.decoder.decided();
-                const std::uint32_t x = next_queued(k, d0);
+                std::uint32_t x = next_queued(k, d0);
+                // Past the kept spheres its FIFOs have room for (pops only add
+                // to it), up to the next: its Decoder cannot hold before.
+                const std::uint32_t room = std::min(c.planeid_fifo.depth() - c.planeid_fifo.size(),
+                                                    c.first_tri_fifo.depth() - c.first_tri_fifo.size());
+                const bool queues = may_queue_ahead && x < d0 + kMinCruise && room > 0;
+                KeptSpheres at;
+                if (queues) x = kept_after(k, d0, std::min(room, kAheadScan), at);
                 if (x >= d0 + kMinCruise) {
+                    if (queues) {
+                        ahead[k] = Ahead{true, d0, cycle + 1};
+                        kept[k] = at;
+                        lazy[k].has = kept[k].next();
+                        if (lazy[k].has && c.first_tri_fifo.empty() && !coast[k].on) {
+                            wait_for(k, info.first_tri(kept[k].sphere));  // (decided before the stream reaches it)
+                            wait_ahead[k] = 1;
+                        }
+                    }
                     cruise[k] = Cruise{cycle + 1, d0, c.sphere_fifo.size(), sphere_link.position(), no_sphere_cycles,
                                        cycle + 1 + (x - d0)};
                     cruising[k] = 1;

@@ -231,6 +231,7 @@ private:
     static_assert(sizeof(EventBack) == 64, "an ICC's Fetcher record in one cache line");
     std::vector<EventBack> event_back_;
     BucketQueue kept_queue_, wait_queue_;  // event mode: ICCs by next kept sphere, by the triangle they wait for
+    BucketQueue coast_pop_queue_;          // ... dozing ICCs by the triangle whose take pops their full FIFOs
     static void shift_back(EventBack& b, std::uint64_t by);
     // The shared sphere side at the start of a pass with groups of size n,
     // and one cycle of it after the link decided (the sphere sent, if any,
