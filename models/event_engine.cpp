@@ -208,6 +208,11 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         if (wait_ahead[k]) return;
         waiting.push(tri, k);
     };
+    // ... in `waiting` for the first triangle of sphere x, which its cruise has still to queue.
+    auto wait_ahead_for = [&](std::uint32_t k, std::uint32_t x) {
+        wait_for(k, info.first_tri(x));
+        wait_ahead[k] = 1;
+    };
     // The triangle stream's sends in this pass, as runs in consecutive
     // cycles (first position, its cycle): the cycle a triangle was sent.
     std::vector<std::pair<std::uint32_t, std::uint64_t>> sent_runs;
@@ -1285,10 +1290,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 if (f.empty() || f.front().sphere != ts) {
                     if (!f.empty()) waiting.push(f.front().first, k);
                     else if (lazy[k].on && lazy[k].has) waiting.push(info.first_tri(kept[k].sphere), k);  // (not decided yet)
-                    else if (ahead[k].on && lazy[k].has) {
-                        waiting.push(info.first_tri(kept[k].sphere), k);
-                        wait_ahead[k] = 1;
-                    }
+                    else if (ahead[k].on && lazy[k].has) wait_ahead_for(k, kept[k].sphere);
                     selecting[i] = selecting.back();
                     selecting.pop_back();
                 } else {
@@ -1393,10 +1395,8 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                         ahead[k] = Ahead{true, d0, cycle + 1};
                         kept[k] = at;
                         lazy[k].has = kept[k].next();
-                        if (lazy[k].has && c.first_tri_fifo.empty() && !coast[k].on) {
-                            wait_for(k, info.first_tri(kept[k].sphere));  // (decided before the stream reaches it)
-                            wait_ahead[k] = 1;
-                        }
+                        if (lazy[k].has && c.first_tri_fifo.empty() && !coast[k].on)
+                            wait_ahead_for(k, kept[k].sphere);  // (decided before the stream reaches it)
                     }
                     cruise[k] = Cruise{cycle + 1, d0, c.sphere_fifo.size(), sphere_link.position(), no_sphere_cycles,
                                        cycle + 1 + (x - d0)};
