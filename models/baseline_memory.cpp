@@ -29,9 +29,12 @@ GroupWork group_work(const Trace& t, const TraceGroup& g, bool primary, Triangle
         w.triangles_needed += n;
         w.rt_tests += std::uint64_t(bit_count(h.rows)) * std::uint64_t(bit_count(h.cols)) * n;
     }
+    // (a run's spheres hold consecutive triangles: a trace's spheres follow one another's triangles)
     if (select == TriangleSelect::any)
-        for (const SphereRun& r : g.pairless)
-            for (std::uint32_t s = r.first; s < r.end(); ++s) w.pairless_triangles += t.tri_count[s];
+        for (const SphereRun& r : g.pairless) {
+            const std::uint32_t last = r.end() - 1;
+            w.pairless_triangles += std::uint64_t(t.first_tri[last]) + t.tri_count[last] - t.first_tri[r.first];
+        }
     w.triangles_needed += w.pairless_triangles;
     return w;
 }

@@ -69,7 +69,11 @@
 //     are kept as runs of cycles, which places a coast's pops), so that the
 //     FIFOs' largest occupancy comes out as in the steps.
 //     The skips of 3. run past dozers and cruisers, stopping short of a
-//     dozer's Sphere FIFO filling, a cruise's end or its FIFO running dry.
+//     dozer's Sphere FIFO filling, a cruise's end or its FIFO running dry;
+//     once the sphere stream is done, dozers and cruisers are all that is
+//     left of the sphere side, and the skips run on. A frozen sphere side
+//     ticks the shared pipeline within the skip until it runs dry when no
+//     hand-over is due to a sphere it holds: nothing reads it meanwhile.
 //     The sphere stream is steady too when no ICC is on the shared pipeline
 //     but some cruise (a lone ICC under the any-plane reading, mostly): the
 //     shared side still follows the stream, and the Decoder's hand-overs it
@@ -971,11 +975,14 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
             const bool s_steady = individuals.empty() && dozers_full == 0 && (n_ref > 0 || !cruisers.empty()) &&
                                   s_has && rp.batches() == 1 && rp.in_flight() == stages && rp.has_output() &&
                                   !rf.empty() && !rf.full();
-            bool s_done = !s_has && rf.empty() && rp.in_flight() == 0 && dozers.empty() && cruisers.empty();
-            // (with no ICC on it and no hand-over due, the shared side runs dry in the skip as the steps
+            // (done but for dozers, which change nothing but counts up to a selection that pops their FIFOs,
+            // and cruisers, which decide a sphere a cycle from their Sphere FIFOs up to the bounds below)
+            bool s_done = !s_has && rf.empty() && rp.in_flight() == 0 && doze_decided > ts;
+            // (with no hand-over due to a sphere it holds, the shared side runs dry in the skip as the steps
             // would run it: nothing reads it meanwhile)
             bool s_frozen = s_has && !(individuals.empty() && dozers.empty()) &&
-                            ((rf.empty() && rp.drained()) || (n_ref == 0 && kept_at.empty())) && doze_decided > ts;
+                            ((rf.empty() && rp.drained()) || kept_at.empty() || kept_at.min_key() >= sp) &&
+                            doze_decided > ts;
             bool stops_spheres = dozers_full > 0;
             std::uint32_t min_decided = std::min(n_ref ? rd.decided() : ~std::uint32_t(0), doze_decided);
             for (std::uint32_t k : individuals) {
@@ -1018,7 +1025,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 d = std::min<std::uint64_t>(d, cruise_end - cycle);
                 if (!s_steady) d = std::min<std::uint64_t>(d, cruise_dry - no_sphere_cycles);
             }
-            if (s_frozen && t_flows && min_decided < sphere_memory.size())  // (no decision while frozen)
+            if ((s_frozen || s_done) && t_flows && min_decided < sphere_memory.size())  // (no decision while frozen; a dozer's)
                 d = std::min<std::uint64_t>(d, info.first_tri(min_decided) - tp);
             if (s_frozen && t_flows)  // a coasting ICC's pop can free its Decoder
                 for (std::uint32_t k : individuals)
@@ -1034,7 +1041,10 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                     no_sphere_cycles += d;
                     sphere_link.stalled(d);
                     std::uint64_t drain = 0;
-                    for (; drain < d && !(rf.empty() && rp.drained()); ++drain) tick_shared_side(true);
+                    for (; drain < d && !(rf.empty() && rp.drained()); ++drain) {
+                        lazy_sphere_blocked += n_ref && rf.full();  // (the sphere stream stopped)
+                        tick_shared_side(true);
+                    }
                     rp.add_starved(d - drain);
                     rp.idle(d - drain);
                     for (std::uint32_t k : individuals) active[k]->hold_front(d);
