@@ -29,6 +29,9 @@
 //     moves), once the triangle stream is done too (only the back ends
 //     drain, in closed form by 2.), and while full Triangle FIFOs hold the
 //     triangle stream (nothing changes until the first of them is popped).
+//     A skip takes every cycle before the event that ends it and closes the
+//     last as a stepped cycle closes (the cruises that end, the holds on the
+//     link in the next cycle); the event's own cycle is stepped.
 //  4. Under icc.triangle_select = any most selected triangles have no pair
 //     (spheres cut by row planes only or column planes only). Each holds the
 //     Fetcher one cycle, so an ICC pops them in closed form from the cycles
@@ -920,6 +923,45 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
             since_sync_ = 0;
         }
     };
+    // The end of cycle c, stepped or the last of a skip: the cruises that end, and the
+    // Triangle FIFOs' holds on the link in the next cycle.
+    auto end_of_cycle = [&](std::uint64_t c) {
+        // Cruising ICCs whose next queued sphere leaves the pipe next cycle, or whose Sphere FIFO is dry then.
+        if (!cruisers.empty() && (cruise_end <= c + 1 || no_sphere_cycles >= cruise_dry)) {
+            for (std::size_t i = 0; i < cruisers.size();) {
+                const std::uint32_t k = cruisers[i];
+                if (cruise[k].end <= c + 1 || no_sphere_cycles >= cruise[k].nb0 + cruise[k].count0) {
+                    land(k, c + 1);
+                    cruisers[i] = cruisers.back();
+                    cruisers.pop_back();
+                } else {
+                    ++i;
+                }
+            }
+            cruise_bounds();
+        }
+
+        // Triangle FIFOs full at the start of the next cycle.
+        for (std::uint32_t k : full_now) is_full[k] = 0;
+        full_now.clear();
+        for (std::size_t i = 0; i < holds.size();) {
+            if (holds[i].until <= c) {  // fallen by the end of this cycle
+                if (hold_of[holds[i].k] == i) hold_of[holds[i].k] = kNoHold;
+                if (i + 1 != holds.size()) {
+                    holds[i] = holds.back();
+                    if (hold_of[holds[i].k] == holds.size() - 1) hold_of[holds[i].k] = std::uint32_t(i);
+                }
+                holds.pop_back();
+                continue;
+            }
+            if (holds[i].from <= c + 1 && !is_full[holds[i].k]) {
+                is_full[holds[i].k] = 1;
+                full_now.push_back(holds[i].k);
+            }
+            ++i;
+        }
+        std::sort(full_now.begin(), full_now.end());
+    };
     Watch watch{progress_signature(), 0};
     for (;;) {
         const std::uint32_t sp = std::uint32_t(sphere_link.position());
@@ -1013,14 +1055,15 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 for (std::uint32_t k : full_now) t_held = t_held || tri_blocker(k);
                 // (a FIFO never popped, under fault injection, is left to the
                 // cycle-by-cycle steps and their watchdog)
-                if (t_held && popped > cycle && popped != kNever) d = std::min(popped, raised) - cycle;
+                if (t_held && popped != kNever) d = std::min(popped + 1, raised) - cycle;  // (held up to `popped`)
             }
             if (s_steady) {
                 d = std::min<std::uint64_t>(d, sphere_link.end() - sp);
                 // (with no reference ICC the hand-overs only move cursors: the next stepped cycle moves them on)
                 if (n_ref && !kept_at.empty()) d = std::min<std::uint64_t>(d, kept_at.min_key() - rp.output().sphere);
             }
-            if (s_steady && !dozers.empty()) d = std::min<std::uint64_t>(d, doze_fill - sp);
+            // (the cycle that fills a dozer's Sphere FIFO is stepped: it stops the sphere stream from the next)
+            if (s_steady && !dozers.empty()) d = std::min<std::uint64_t>(d, doze_fill - sp - 1);
             if (!cruisers.empty()) {
                 d = std::min<std::uint64_t>(d, cruise_end - cycle);
                 if (!s_steady) d = std::min<std::uint64_t>(d, cruise_dry - no_sphere_cycles);
@@ -1033,8 +1076,9 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                         const FirstTriEntry& h = active[k]->first_tri_fifo.front();
                         d = std::min<std::uint64_t>(d, h.first + h.count - 1 - tp);
                     }
-            if ((t_flows || t_held) && (s_steady || s_done || s_frozen) && d > 1) {
-                --d;  // the event cycle itself is stepped normally
+            // The d cycles before the event are skipped (d is the distance to it), ended as a
+            // stepped cycle ends; the event's cycle is stepped.
+            if ((t_flows || t_held) && (s_steady || s_done || s_frozen) && d > 0) {
                 if (s_steady) {
                     spheres_stream(d);
                 } else if (s_frozen) {
@@ -1058,6 +1102,10 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                     note_held(d, tri_blocker);
                 }
                 skip(d);
+                end_of_cycle(cycle - 1);
+                if (!sphere_link.has_record() && !triangle_link.has_record() && selecting.empty() &&
+                    (p.drain ? max_done : prev_done) < cycle)
+                    break;
                 continue;
             }
         }
@@ -1420,41 +1468,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
             }
             ++i;
         }
-        // Cruising ICCs whose next queued sphere leaves the pipe next cycle, or whose Sphere FIFO is dry then.
-        if (!cruisers.empty() && (cruise_end <= cycle + 1 || no_sphere_cycles >= cruise_dry)) {
-            for (std::size_t i = 0; i < cruisers.size();) {
-                const std::uint32_t k = cruisers[i];
-                if (cruise[k].end <= cycle + 1 || no_sphere_cycles >= cruise[k].nb0 + cruise[k].count0) {
-                    land(k, cycle + 1);
-                    cruisers[i] = cruisers.back();
-                    cruisers.pop_back();
-                } else {
-                    ++i;
-                }
-            }
-            cruise_bounds();
-        }
-
-        // ---- Triangle FIFOs full at the start of the next cycle ----------
-        for (std::uint32_t k : full_now) is_full[k] = 0;
-        full_now.clear();
-        for (std::size_t i = 0; i < holds.size();) {
-            if (holds[i].until <= cycle) {  // fallen by the end of this cycle
-                if (hold_of[holds[i].k] == i) hold_of[holds[i].k] = kNoHold;
-                if (i + 1 != holds.size()) {
-                    holds[i] = holds.back();
-                    if (hold_of[holds[i].k] == holds.size() - 1) hold_of[holds[i].k] = std::uint32_t(i);
-                }
-                holds.pop_back();
-                continue;
-            }
-            if (holds[i].from <= cycle + 1 && !is_full[holds[i].k]) {
-                is_full[holds[i].k] = 1;
-                full_now.push_back(holds[i].k);
-            }
-            ++i;
-        }
-        std::sort(full_now.begin(), full_now.end());
+        end_of_cycle(cycle);
         ++cycle;
         if (!sphere_link.has_record() && !triangle_link.has_record() && selecting.empty() &&
             (p.drain ? max_done : prev_done) < cycle)
