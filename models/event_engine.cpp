@@ -962,6 +962,11 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         }
         std::sort(full_now.begin(), full_now.end());
     };
+    // Both streams done, no selection left, the last work done before `cycle`: the pass is over.
+    auto pass_over = [&] {
+        return !sphere_link.has_record() && !triangle_link.has_record() && selecting.empty() &&
+               (p.drain ? max_done : prev_done) < cycle;
+    };
     Watch watch{progress_signature(), 0};
     for (;;) {
         const std::uint32_t sp = std::uint32_t(sphere_link.position());
@@ -1103,9 +1108,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 }
                 skip(d);
                 end_of_cycle(cycle - 1);
-                if (!sphere_link.has_record() && !triangle_link.has_record() && selecting.empty() &&
-                    (p.drain ? max_done : prev_done) < cycle)
-                    break;
+                if (pass_over()) break;
                 continue;
             }
         }
@@ -1470,9 +1473,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         }
         end_of_cycle(cycle);
         ++cycle;
-        if (!sphere_link.has_record() && !triangle_link.has_record() && selecting.empty() &&
-            (p.drain ? max_done : prev_done) < cycle)
-            break;
+        if (pass_over()) break;
         std::uint64_t cruised = 0;  // (a cruising ICC's decisions are progress the watchdog must see)
         if (since_sync_ + 1 >= cfg_.sync_cycles)
             for (std::uint32_t k : cruisers) cruised += cruise_decided(k, cycle);
