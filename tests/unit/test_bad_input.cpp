@@ -214,10 +214,12 @@ TEST_F(BadInputTable, EveryCaseGetsItsExitCodeAndWholeStderr) {
             for (const auto& x : *absent) inputs.erase(x.value_or(std::string()));  // (removing it is the point)
         for (const auto& [fname, bytes] : inputs)
             EXPECT_TRUE(slurp(case_dir / fname) == bytes) << fname << ": an input file was changed by the run";
-        if (const toml::array* absent = c["absent"].as_array())
-            for (const auto& x : *absent)
+        if (const toml::array* absent = c["absent"].as_array()) {
+            for (const auto& x : *absent) {
                 EXPECT_FALSE(fs::exists(fs::symlink_status(case_dir / x.value_or(std::string()))))
                     << x.value_or(std::string()) << " is still there";
+            }
+        }
 
         const int want_code = int(c["exit"].value_or(std::int64_t(-1)));
         EXPECT_EQ(r.code, want_code) << "stderr: " << r.err;
