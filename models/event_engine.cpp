@@ -908,6 +908,19 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         rf.advance(std::uint32_t(d));
         rd.set_decided(rd.decided() + std::uint32_t(d));
     };
+    // d skipped cycles in which the sphere stream is stopped: the shared side, which nothing reads
+    // meanwhile, is ticked until it runs dry, then idles.
+    auto spheres_stopped = [&](std::uint64_t d) {
+        no_sphere_cycles += d;
+        sphere_link.stalled(d);
+        std::uint64_t drain = 0;
+        for (; drain < d && !(rf.empty() && rp.drained()); ++drain) {
+            lazy_sphere_blocked += n_ref && rf.full();
+            tick_shared_side(true);
+        }
+        rp.add_starved(d - drain);
+        rp.idle(d - drain);
+    };
     // d skipped cycles that each send a triangle.
     auto triangles_flow = [&](std::uint64_t d) {
         note_sent(triangle_link.position(), cycle);
@@ -1087,15 +1100,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 if (s_steady) {
                     spheres_stream(d);
                 } else if (s_frozen) {
-                    no_sphere_cycles += d;
-                    sphere_link.stalled(d);
-                    std::uint64_t drain = 0;
-                    for (; drain < d && !(rf.empty() && rp.drained()); ++drain) {
-                        lazy_sphere_blocked += n_ref && rf.full();  // (the sphere stream stopped)
-                        tick_shared_side(true);
-                    }
-                    rp.add_starved(d - drain);
-                    rp.idle(d - drain);
+                    spheres_stopped(d);
                     for (std::uint32_t k : individuals) active[k]->hold_front(d);
                 } else {
                     spheres_idle(d);
@@ -1185,15 +1190,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                     if (holds_on && occupancy == s_depth &&
                         (kept_at.empty() || kept_at.min_key() >= sphere_link.position())) {
                         const std::uint64_t d = held_for(~std::uint64_t(0));
-                        no_sphere_cycles += d;
-                        sphere_link.stalled(d);
-                        std::uint64_t drain = 0;
-                        for (; drain < d && !(rf.empty() && rp.drained()); ++drain) {
-                            lazy_sphere_blocked += n_ref && rf.full();
-                            tick_shared_side(true);
-                        }
-                        rp.add_starved(d - drain);
-                        rp.idle(d - drain);
+                        spheres_stopped(d);
                         triangles_flow(d);
                         blocked += d;
                         held += d;
