@@ -78,7 +78,7 @@
 //     ticks the shared pipeline within the skip until it runs dry when no
 //     hand-over is due to a sphere it holds: nothing reads it meanwhile.
 //     The sphere stream is steady too when no ICC is on the shared pipeline
-//     but some cruise (a lone ICC under the any-plane reading, mostly): the
+//     but some cruise or doze (a lone ICC under the any-plane reading): the
 //     shared side still follows the stream, and the Decoder's hand-overs it
 //     passes only move the ICCs' cursors, which the next stepped cycle does.
 //  8. The only ICC stepped on its own whose PSI pipe is full (one batch per
@@ -1030,9 +1030,10 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         // stream: it decides a sphere a cycle, and every sphere has a triangle.)
         if (t_has && (n_ref == 0 || rd.decided() > ts) &&
             (cruisers.empty() || std::int64_t(cycle) + cruise_offset > std::int64_t(ts))) {
-            // (Steady with no reference ICC too when some cruise: a cruiser decides a sphere a cycle and its
-            // Sphere FIFO stays as it is while the stream moves; the shared side follows the stream all the same.)
-            const bool s_steady = individuals.empty() && dozers_full == 0 && (n_ref > 0 || !cruisers.empty()) &&
+            // (Steady with no reference ICC too when some cruise or doze: a cruiser decides a sphere a cycle
+            // and its Sphere FIFO stays as it is while the stream moves, a dozer's Sphere FIFO takes the
+            // spheres up to its bound below; the shared side follows the stream all the same.)
+            const bool s_steady = individuals.empty() && dozers_full == 0 && (n_ref > 0 || !cruisers.empty() || !dozers.empty()) &&
                                   s_has && rp.batches() == 1 && rp.in_flight() == stages && rp.has_output() &&
                                   !rf.empty() && !rf.full();
             // (done but for dozers, which change nothing but counts up to a selection that pops their FIFOs,
