@@ -48,7 +48,13 @@
 //     spheres in the cycle the shared side decides it; while its PlaneID
 //     FIFO can neither fill nor pass its largest occupancy so far, those
 //     pushes are made only when its FIFOs are read, and the ICC is touched
-//     once per such span, not once per sphere.
+//     once per such span, not once per sphere. Its FIFOs do not store what
+//     it queues: they hold a stretch of its kept spheres, in order, so what
+//     follows their stored entries is a count and a cursor into its lists;
+//     pushes move one cursor and a coast's pops the other, by runs of
+//     pair-less spheres (a run holds consecutive triangles), and an entry
+//     is stored only when a selection reads it, or the ICC leaves the
+//     shared side.
 //  6. An ICC stepped on its own whose Decoder holds (its PlaneID or
 //     First-Triangle-ID FIFO full) "dozes": until a selection pops that
 //     FIFO, only counts change and its Sphere FIFO takes the spheres
@@ -122,6 +128,7 @@ struct Tally {
 };
 struct Lazy {
     std::uint32_t end = 0;
+    std::uint32_t vn = 0;  // the kept spheres queued behind its FIFOs' entries, not stored (5.)
     bool on = false;
     bool has = false;  // its cursor holds a sphere not pushed yet
 };
@@ -202,7 +209,8 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     kept_at.reset(sphere_memory.size(), na);
     for (std::uint32_t k = 0; k < na; ++k) {
         kept[k] = KeptSpheres(active[k]->unit().sphere_hits(), keep_pairless ? &active[k]->unit().pairless() : nullptr);
-        if (kept[k].next()) kept_at.push(kept[k].sphere, k);
+        records[k].lazy.has = kept[k].next();  // (the cursor holds its next kept sphere)
+        if (records[k].lazy.has) kept_at.push(kept[k].sphere, k);
     }
     // ICCs waiting for the triangle stream to reach their head sphere, by its first triangle.
     BucketQueue& waiting = wait_queue_;
@@ -397,8 +405,55 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     // the pops between them then changes no figure.
     // (lazy[k]: the Lazy of ICC k's Record, at the top of this file)
     const bool may_lazy = any_full && cfg_.fault == Fault::none;
+    // A reference ICC's FIFOs (with may_lazy) are its stored entries
+    // followed by `vn` kept spheres in order from the cursor `vhead[k]`,
+    // queued but not stored: pushes move the cursor `kept[k]`, a coast's
+    // pops move `vhead[k]`, by runs of pair-less spheres, and only the entry
+    // a selection reads is stored (head_in_fifo). Its figures are recorded
+    // as the pushes are made.
+    std::vector<KeptSpheres> vhead(na);
+    auto occupancy_of = [&](std::uint32_t k) { return active[k]->planeid_fifo.size() + lazy[k].vn; };
+    // ICC k's first unstored entry stored, behind the stored ones.
+    auto store_one = [&](std::uint32_t k) {
+        Icc& c = *active[k];
+        KeptSpheres& h = vhead[k];
+        c.planeid_fifo.place({h.rows, h.cols});
+        c.first_tri_fifo.place(info.entry(h.sphere));
+        if (--lazy[k].vn) h.next();
+    };
+    // ... when it has none stored: a selection reads its head entry.
+    auto head_in_fifo = [&](std::uint32_t k) {
+        if (lazy[k].vn && active[k]->first_tri_fifo.empty()) store_one(k);
+    };
+    // ... all of them (the blocks read them: an ICC on its own, the watchdog).
+    auto store_all = [&](std::uint32_t k) {
+        while (lazy[k].vn) store_one(k);
+    };
+    // Reference ICC k queues its kept spheres from its cursor below `upto`, unstored.
+    auto queue_unstored = [&](std::uint32_t k, std::uint32_t upto) {
+        Lazy& z = lazy[k];
+        KeptSpheres& e = kept[k];
+        if (!z.has || e.sphere >= upto) return;
+        Icc& c = *active[k];
+        std::uint64_t pairs = 0, pairless = 0;
+        do {
+            const std::uint32_t run = std::min(e.run_left(), upto - e.sphere - 1);
+            if (z.vn + pairs + pairless == 0) vhead[k] = e;
+            if (e.rows && e.cols) ++pairs;
+            else pairless += run + 1;
+            if (run) e.skip(run);
+            z.has = e.next();
+        } while (z.has && e.sphere < upto);
+        z.vn += std::uint32_t(pairs + pairless);
+        const std::uint32_t occupancy = occupancy_of(k);
+        c.planeid_fifo.record_push(occupancy, pairs + pairless);
+        c.first_tri_fifo.record_push(occupancy, pairs + pairless);
+        c.decoder.note_hit(false, pairs);
+        c.decoder.note_hit(true, pairless);
+    };
     // Pushes ICC k's lazy spheres below `upto` (decided by now).
     auto push_lazy = [&](std::uint32_t k, std::uint32_t upto) {
+        if (may_lazy && role[k] == ref) return queue_unstored(k, upto);
         Lazy& z = lazy[k];
         KeptSpheres& e = kept[k];
         if (!z.has || e.sphere >= upto) return;
@@ -435,6 +490,34 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         const Ahead& a = ahead[k];
         if (a.on) push_lazy(k, c <= a.c0 ? a.d0 : std::uint32_t(a.d0 + (c - a.c0)));
     };
+    // Coasting ICC k takes the triangles from `pos` on below `upto` of its
+    // unstored entries (its stored ones are gone), and pops the entries whose
+    // last triangle is among them. Returns how many it takes. (A run of
+    // consecutive spheres holds consecutive triangles.)
+    auto take_unstored = [&](std::uint32_t k, std::uint32_t upto, std::uint32_t pos) {
+        Lazy& z = lazy[k];
+        KeptSpheres& h = vhead[k];
+        std::uint32_t taken = 0;
+        while (z.vn) {
+            const std::uint32_t y = h.sphere, r = std::min(h.run_left(), z.vn - 1), last = y + r;
+            const std::uint32_t first = info.first_tri(y), end = info.first_tri(last) + info.tri_count(last);
+            const std::uint32_t from = std::max(first, pos), to = std::min(end, upto);
+            if (to > from) taken += to - from;
+            // (the spheres of y..last that end by `upto`: those before the one that holds triangle `upto`)
+            const std::uint32_t popped = end <= upto ? r + 1 : upto > first ? triangle_memory.sphere_of(upto) - y : 0;
+            if (popped == 0) break;
+            z.vn -= popped;
+            if (popped <= r) {  // (the rest of the run ends past `upto`)
+                if (popped > 1) h.skip(popped - 1);
+                h.next();
+                break;
+            }
+            if (z.vn == 0) break;
+            if (r) h.skip(r);
+            h.next();
+        }
+        return taken;
+    };
     // Coasting ICC k has taken every triangle of its entries below `upto`
     // (the link's position): those from `pos` on are counted, and the
     // entries whose last triangle is among them popped. (Every sphere with a
@@ -448,6 +531,10 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         Fifo<FirstTriEntry>& f = icc.first_tri_fifo;
         std::uint32_t taken = 0;
         for (;;) {  // (the entry of `next` stays: it ends past `upto`)
+            if (f.empty() && lazy[k].vn) {  // the unstored ones, by runs of consecutive spheres
+                taken += take_unstored(k, upto, co.pos);
+                break;
+            }
             if (f.empty()) {  // (a coast begun on the shared side takes spheres a cruise has still to queue)
                 if (!ahead[k].on || !lazy[k].has || info.first_tri(kept[k].sphere) >= upto) break;
                 push_lazy(k, kept[k].sphere + 1);
@@ -477,7 +564,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     auto arm_lazy = [&](std::uint32_t k, std::uint32_t x) {
         Lazy& z = lazy[k];
         const Icc& c = *active[k];
-        const std::uint64_t most = c.planeid_fifo.quiet_limit(), occupancy = c.planeid_fifo.size();
+        const std::uint64_t most = c.planeid_fifo.quiet_limit(), occupancy = occupancy_of(k);
         z.on = z.has && most > occupancy;
         if (!z.on) {
             if (z.has) kept_at.push(kept[k].sphere, k);  // (its FIFOs are not empty)
@@ -805,6 +892,26 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 if (!fn(std::max(e.first, tri + 1), e.first + e.count)) return kNoTri;
             }
             if (role[k] != ref) return kNoTri;
+            if (may_lazy) {  // its unstored entries, then the kept spheres it is still to queue: by cursors
+                bool in_queue = lazy[k].vn > 0, more = in_queue || lazy[k].has;
+                KeptSpheres e = in_queue ? vhead[k] : kept[k];
+                std::uint32_t left = lazy[k].vn;  // (in its FIFOs, from e on)
+                while (more) {
+                    if (e.rows && e.cols) return info.first_tri(e.sphere);
+                    const std::uint32_t r = in_queue ? std::min(e.run_left(), left - 1) : e.run_left(), last = e.sphere + r;
+                    if (!fn(std::max(info.first_tri(e.sphere), tri + 1), info.first_tri(last) + info.tri_count(last)))
+                        return kNoTri;
+                    if (in_queue && (left -= r + 1) == 0) {
+                        in_queue = false;
+                        e = kept[k];
+                        more = lazy[k].has;
+                        continue;
+                    }
+                    if (r) e.skip(r);
+                    more = e.next();
+                }
+                return kNoTri;
+            }
             const std::uint32_t s0 = f.empty() ? triangle_memory.sphere_of(tri) + 1 : f.at(f.size() - 1).sphere + 1;
             const auto& hits = icc.unit().sphere_hits();
             const auto h = first_hit_from(hits, s0);
@@ -859,6 +966,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         for (std::uint32_t k = 0; k < na; ++k) {
             if (lazy[k].on) push_lazy(k, rd.decided());
             if (coast[k].on) catch_up(k, std::uint32_t(triangle_link.position()));
+            store_all(k);
         }
         std::vector<IccView> v;
         for (std::size_t k = 0; k < na; ++k) {
@@ -1336,6 +1444,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 const std::uint32_t k = selecting[i];
                 if (lazy[k].on) push_lazy(k, rd.decided());  // (so that a coast can cover the whole run)
                 push_ahead(k, cycle);
+                head_in_fifo(k);
                 const bool coasts = select(k, std::uint32_t(t), cycle);
                 if (dozing[k] && (coasts || !(active[k]->planeid_fifo.full() || active[k]->first_tri_fifo.full())))
                     wake(k, cycle, s);
@@ -1345,6 +1454,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                     selecting.pop_back();
                     continue;
                 }
+                head_in_fifo(k);
                 const Fifo<FirstTriEntry>& f = active[k]->first_tri_fifo;
                 if (f.empty() || f.front().sphere != ts) {
                     if (!f.empty()) waiting.push(f.front().first, k);
@@ -1383,25 +1493,27 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                     if (role[k] != ref) return;  // (on its own: its cursor is set again when it rejoins)
                     Icc& c = *active[k];
                     if (coast[k].on) catch_up(k, std::uint32_t(triangle_link.position()));
-                    if (c.planeid_fifo.full() || c.first_tri_fifo.full()) {
+                    if (occupancy_of(k) >= c.planeid_fifo.depth()) {
+                        store_all(k);
                         adopt_reference(k);  // its Decoder holds: it has its own sphere side until it rejoins
                         role[k] = individual;
                         --n_ref;
                         diverged.push_back(k);
                         return;
                     }
-                    const bool was_empty = c.first_tri_fifo.empty() && !coast[k].on;  // (a coast waits already)
+                    const bool was_empty = occupancy_of(k) == 0 && !coast[k].on;  // (a coast waits already)
+                    if (was_empty) wait_for(k, info.first_tri(x));
+                    if (may_lazy) {  // queued unstored, and the spheres after it lazily
+                        lazy[k].has = true;
+                        push_lazy(k, x + 1);
+                        arm_lazy(k, x);
+                        return;
+                    }
                     KeptSpheres& e = kept[k];
                     const PlaneIdEntry masks{e.rows, e.cols};
                     c.planeid_fifo.push(masks);
                     c.first_tri_fifo.push(info.entry(x));
                     c.decoder.note_hit(!(masks.rows && masks.cols));
-                    if (was_empty) wait_for(k, info.first_tri(x));
-                    if (may_lazy) {  // the spheres after it, lazily
-                        lazy[k].has = e.next();
-                        arm_lazy(k, x);
-                        return;
-                    }
                     advance(k);
                 });
         }
@@ -1426,7 +1538,8 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                 joined[k] = joined_now();
                 // (every sphere before the shared side's next one is decided)
                 kept[k].seek(rd.decided());
-                if (kept[k].next()) kept_at.push(kept[k].sphere, k);
+                lazy[k].has = kept[k].next();
+                if (lazy[k].has) kept_at.push(kept[k].sphere, k);
                 individuals[i] = individuals.back();
                 individuals.pop_back();
                 continue;
@@ -1483,6 +1596,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     land_all(cycle);
     for (std::uint32_t k = 0; k < na; ++k) {
         if (lazy[k].on) push_lazy(k, rd.decided());
+        store_all(k);
         if (role[k] == ref) adopt_reference(k);
     }
     for (auto& icc : iccs)

@@ -56,6 +56,14 @@ public:
         head_ = head_ + 1 == params_.depth ? 0 : head_ + 1;
         --count_;
     }
+    // Event-driven simulation: stores an entry whose push was recorded
+    // already (record_push), while it was kept elsewhere.
+    void place(const T& v) {
+        std::uint32_t i = head_ + count_;
+        if (i >= params_.depth) i -= params_.depth;
+        buf_[i] = v;
+        ++count_;
+    }
     // Asks the cache for the entry `ahead` places behind the front (read soon).
     void prefetch(std::uint32_t ahead) const {
         std::uint32_t i = head_ + ahead;
