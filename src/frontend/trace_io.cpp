@@ -53,13 +53,6 @@ struct Writer {
         put(std::uint32_t(s.size()));
         bytes(s.data(), s.size());
     }
-    void put_varint(std::uint32_t v) {  // LEB128: 7 bits a byte, low bits first
-        do {
-            const std::uint8_t b = std::uint8_t(v & 0x7f) | std::uint8_t(v >= 0x80 ? 0x80 : 0);
-            put(b);
-            v >>= 7;
-        } while (v);
-    }
     void put_mask(std::uint64_t m, std::uint32_t bytes_) {
         char b[8];
         for (std::uint32_t i = 0; i < bytes_; ++i) b[i] = char((m >> (8 * i)) & 0xff);
@@ -241,7 +234,34 @@ void write_header(Writer& w, const Trace& t, bool as_workload, bool pairless) {
     w.put(t.primary_groups);
 }
 
-void write_group(Writer& w, const TraceGroup& g, bool as_workload, bool pairless) {
+// Gathers a group's small puts and hands them to the writer in pieces of up
+// to 4 KiB: the same bytes, in one call per piece instead of one per value.
+struct Batch {
+    explicit Batch(Writer& out) : w(out) {}
+    Writer& w;
+    std::size_t n = 0;
+    char buf[4096];
+    void bytes(const char* p, std::size_t k) {
+        if (n + k > sizeof buf) flush();
+        if (k > sizeof buf) return w.bytes(p, k);
+        std::memcpy(buf + n, p, k);
+        n += k;
+    }
+    template <class T> void put(const T& v) { bytes(reinterpret_cast<const char*>(&v), sizeof(T)); }
+    void put_vec(const Vec3f& v) { put(v.x); put(v.y); put(v.z); }
+    void put_mask(std::uint64_t m, std::uint32_t bytes_) {
+        char b[8];
+        for (std::uint32_t i = 0; i < bytes_; ++i) b[i] = char((m >> (8 * i)) & 0xff);
+        bytes(b, bytes_);
+    }
+    void flush() {
+        if (n) w.bytes(buf, n);
+        n = 0;
+    }
+};
+
+void write_group(Writer& out, const TraceGroup& g, bool as_workload, bool pairless) {
+    Batch w(out);
     w.put(std::uint8_t(g.kind));
     w.put(g.n);
     w.put(g.px); w.put(g.py);
@@ -258,20 +278,30 @@ void write_group(Writer& w, const TraceGroup& g, bool as_workload, bool pairless
     for (const auto& s : g.sphere_hits) { w.put(s.sphere); w.put_mask(s.rows, mb); w.put_mask(s.cols, mb); }
     if (pairless) {
         // Runs: the gap before each (from sphere 0, then from one past the
-        // previous run's end) and its length - 1, as LEB128 varints,
-        // after the run count and their byte count.
+        // previous run's end) and its length - 1, as LEB128 varints (7 bits
+        // a byte, low bits first; at most 5 bytes each), after the run count
+        // and their byte count.
         w.put(std::uint64_t(g.pairless.size()));
-        Writer runs;
+        std::string runs(10 * g.pairless.size(), '\0');
+        char* q = runs.data();
+        auto varint = [&q](std::uint32_t v) {
+            do {
+                *q++ = char(std::uint8_t(v & 0x7f) | std::uint8_t(v >= 0x80 ? 0x80 : 0));
+                v >>= 7;
+            } while (v);
+        };
         std::uint32_t next = 0;
         for (const SphereRun& r : g.pairless) {
-            runs.put_varint(r.first - next);
-            runs.put_varint(r.count - 1);
+            varint(r.first - next);
+            varint(r.count - 1);
             next = r.end() + 1;
         }
-        w.put(std::uint64_t(runs.out.size()));
-        w.bytes(runs.out.data(), runs.out.size());
+        const std::size_t len = std::size_t(q - runs.data());
+        w.put(std::uint64_t(len));
+        w.bytes(runs.data(), len);
     }
     for (const auto& h : g.hits) { w.put(h.t); w.put(h.tri); }
+    w.flush();
 }
 
 }  // namespace
