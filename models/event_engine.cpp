@@ -429,50 +429,51 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     auto store_all = [&](std::uint32_t k) {
         while (lazy[k].vn) store_one(k);
     };
-    // Reference ICC k queues its kept spheres from its cursor below `upto`, unstored.
-    auto queue_unstored = [&](std::uint32_t k, std::uint32_t upto) {
+    // ICC k's Decoder queues its kept spheres from its cursor below `upto`
+    // (decided by now): the cursor moves past them, a run of pair-less ones
+    // at a time, `each(e, run)` seeing each sphere e.sphere with the `run` of
+    // its run after it before it moves on. Returns how many.
+    auto queue_from_cursor = [&](std::uint32_t k, std::uint32_t upto, auto&& each) -> std::uint64_t {
         Lazy& z = lazy[k];
         KeptSpheres& e = kept[k];
-        if (!z.has || e.sphere >= upto) return;
-        Icc& c = *active[k];
+        if (!z.has || e.sphere >= upto) return 0;
         std::uint64_t pairs = 0, pairless = 0;
         do {
             const std::uint32_t run = std::min(e.run_left(), upto - e.sphere - 1);
-            if (z.vn + pairs + pairless == 0) vhead[k] = e;
+            each(e, run);
             if (e.rows && e.cols) ++pairs;
             else pairless += run + 1;
             if (run) e.skip(run);
             z.has = e.next();
         } while (z.has && e.sphere < upto);
-        z.vn += std::uint32_t(pairs + pairless);
-        const std::uint32_t occupancy = occupancy_of(k);
-        c.planeid_fifo.record_push(occupancy, pairs + pairless);
-        c.first_tri_fifo.record_push(occupancy, pairs + pairless);
-        c.decoder.note_hit(false, pairs);
-        c.decoder.note_hit(true, pairless);
+        Decoder& d = active[k]->decoder;
+        d.note_hit(false, pairs);
+        d.note_hit(true, pairless);
+        return pairs + pairless;
     };
-    // Pushes ICC k's lazy spheres below `upto` (decided by now).
+    // Pushes ICC k's lazy spheres below `upto`: unstored for a reference ICC,
+    // else into its FIFOs.
     auto push_lazy = [&](std::uint32_t k, std::uint32_t upto) {
-        if (may_lazy && role[k] == ref) return queue_unstored(k, upto);
-        Lazy& z = lazy[k];
-        KeptSpheres& e = kept[k];
-        if (!z.has || e.sphere >= upto) return;
         Icc& c = *active[k];
-        std::uint64_t pairs = 0, pairless = 0;
-        do {
-            // (the rest of a run of pair-less spheres, decided by now, at once)
-            const std::uint32_t run = std::min(e.run_left(), upto - e.sphere - 1);
+        if (may_lazy && role[k] == ref) {
+            bool first = lazy[k].vn == 0;
+            const std::uint64_t n = queue_from_cursor(k, upto, [&](const KeptSpheres& e, std::uint32_t) {
+                if (first) vhead[k] = e;
+                first = false;
+            });
+            if (n == 0) return;
+            lazy[k].vn += std::uint32_t(n);
+            const std::uint32_t occupancy = occupancy_of(k);
+            c.planeid_fifo.record_push(occupancy, n);
+            c.first_tri_fifo.record_push(occupancy, n);
+            return;
+        }
+        queue_from_cursor(k, upto, [&](const KeptSpheres& e, std::uint32_t run) {
             for (std::uint32_t y = e.sphere; y <= e.sphere + run; ++y) {
                 c.planeid_fifo.push({e.rows, e.cols});
                 c.first_tri_fifo.push(info.entry(y));
             }
-            if (e.rows && e.cols) ++pairs;
-            else pairless += run + 1;
-            if (run) e.skip(run);
-            z.has = e.next();
-        } while (z.has && e.sphere < upto);
-        c.decoder.note_hit(false, pairs);
-        c.decoder.note_hit(true, pairless);
+        });
     };
     // A cruise that queues kept spheres (7.): ICC k, individual, decides
     // sphere d0 + i in cycle c0 + i and queues the kept ones from its cursor

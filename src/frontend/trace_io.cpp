@@ -37,26 +37,34 @@ constexpr std::size_t kHeaderBytes = kTraceFileHeaderBytes;
 constexpr std::uint64_t kMaxCount = std::uint64_t(1) << 32;
 
 
+// The encodings of the trace's values, over a sink's bytes(p, n).
+template <class Sink>
+struct Puts {
+    template <class T> void put(const T& v) { sink().bytes(reinterpret_cast<const char*>(&v), sizeof(T)); }
+    void put_vec(const Vec3f& v) { put(v.x); put(v.y); put(v.z); }
+    void put_str(const std::string& s) {
+        put(std::uint32_t(s.size()));
+        sink().bytes(s.data(), s.size());
+    }
+    void put_mask(std::uint64_t m, std::uint32_t bytes_) {
+        char b[8];
+        for (std::uint32_t i = 0; i < bytes_; ++i) b[i] = char((m >> (8 * i)) & 0xff);
+        sink().bytes(b, bytes_);
+    }
+
+private:
+    Sink& sink() { return static_cast<Sink&>(*this); }
+};
+
 // Appends to `out`; with `hashing` it feeds the bytes to an FNV-1a hash
 // instead (workload_hash).
-struct Writer {
+struct Writer : Puts<Writer> {
     std::string out;
     bool hashing = false;
     std::uint64_t hash = 0xcbf29ce484222325ull;
     void bytes(const char* p, std::size_t n) {
         if (hashing) hash = fnv1a64(std::string_view(p, n), hash);
         else out.append(p, n);
-    }
-    template <class T> void put(const T& v) { bytes(reinterpret_cast<const char*>(&v), sizeof(T)); }
-    void put_vec(const Vec3f& v) { put(v.x); put(v.y); put(v.z); }
-    void put_str(const std::string& s) {
-        put(std::uint32_t(s.size()));
-        bytes(s.data(), s.size());
-    }
-    void put_mask(std::uint64_t m, std::uint32_t bytes_) {
-        char b[8];
-        for (std::uint32_t i = 0; i < bytes_; ++i) b[i] = char((m >> (8 * i)) & 0xff);
-        bytes(b, bytes_);
     }
 };
 
@@ -236,7 +244,7 @@ void write_header(Writer& w, const Trace& t, bool as_workload, bool pairless) {
 
 // Gathers a group's small puts and hands them to the writer in pieces of up
 // to 4 KiB: the same bytes, in one call per piece instead of one per value.
-struct Batch {
+struct Batch : Puts<Batch> {
     explicit Batch(Writer& out) : w(out) {}
     Writer& w;
     std::size_t n = 0;
@@ -246,13 +254,6 @@ struct Batch {
         if (k > sizeof buf) return w.bytes(p, k);
         std::memcpy(buf + n, p, k);
         n += k;
-    }
-    template <class T> void put(const T& v) { bytes(reinterpret_cast<const char*>(&v), sizeof(T)); }
-    void put_vec(const Vec3f& v) { put(v.x); put(v.y); put(v.z); }
-    void put_mask(std::uint64_t m, std::uint32_t bytes_) {
-        char b[8];
-        for (std::uint32_t i = 0; i < bytes_; ++i) b[i] = char((m >> (8 * i)) & 0xff);
-        bytes(b, bytes_);
     }
     void flush() {
         if (n) w.bytes(buf, n);
