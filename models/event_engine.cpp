@@ -1139,10 +1139,10 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         // stream: it decides a sphere a cycle, and every sphere has a triangle.)
         if (t_has && (n_ref == 0 || rd.decided() > ts) &&
             (cruisers.empty() || std::int64_t(cycle) + cruise_offset > std::int64_t(ts))) {
-            // (Steady with no reference ICC too when some cruise or doze: a cruiser decides a sphere a cycle
-            // and its Sphere FIFO stays as it is while the stream moves, a dozer's Sphere FIFO takes the
+            // (Steady with no reference ICC too, every ICC then cruising or dozing: a cruiser decides a sphere
+            // a cycle and its Sphere FIFO stays as it is while the stream moves, a dozer's Sphere FIFO takes the
             // spheres up to its bound below; the shared side follows the stream all the same.)
-            const bool s_steady = individuals.empty() && dozers_full == 0 && (n_ref > 0 || !cruisers.empty() || !dozers.empty()) &&
+            const bool s_steady = na > 0 && individuals.empty() && dozers_full == 0 &&
                                   s_has && rp.batches() == 1 && rp.in_flight() == stages && rp.has_output() &&
                                   !rf.empty() && !rf.full();
             // (done but for dozers, which change nothing but counts up to a selection that pops their FIFOs,
