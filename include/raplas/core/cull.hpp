@@ -262,21 +262,26 @@ inline void group_sphere_hits_culled(const A& a, const Plane* planes, const Plan
         std::uint32_t node;
         std::uint64_t rows, cols;
     };
-    Item stack[64];
-    int top = 0;
-    stack[top++] = {0, row_valid, col_valid};
-    while (top > 0) {
-        const Item it = stack[--top];
-        const SphereTree::Node& nd = nodes[it.node];
-        const std::uint64_t rows = narrow(it.rows, 0, nd);
-        if (!rows && !pairless) continue;
-        const std::uint64_t cols = narrow(it.cols, n, nd);
-        if (!cols && (!pairless || !rows)) continue;
-        if (nd.right) {
-            stack[top++] = {nd.right, rows, cols};
-            stack[top++] = {it.node + 1, rows, cols};
-            continue;
+    // Down the left children, the right ones stacked: the left child is taken
+    // without a trip through the stack (a load right after the stores of its
+    // push waits for them). The stack's bottom item ends the walk.
+    constexpr std::uint32_t kEnd = ~std::uint32_t(0);
+    Item stack[65];
+    stack[0] = {kEnd, 0, 0};
+    int top = 1;
+    for (Item it{0, row_valid, col_valid}; it.node != kEnd; it = stack[--top]) {
+        const SphereTree::Node* ndp;
+        std::uint64_t rows, cols;
+        for (;;) {
+            ndp = &nodes[it.node];
+            rows = narrow(it.rows, 0, *ndp);
+            cols = rows || pairless ? narrow(it.cols, n, *ndp) : 0;
+            if (!ndp->right || (!cols && (!pairless || !rows))) break;
+            stack[top++] = {ndp->right, rows, cols};
+            it = {it.node + 1, rows, cols};
         }
+        if (!cols && (!pairless || !rows)) continue;
+        const SphereTree::Node& nd = *ndp;
         // Leaf: the exact Eq. 1 test for the planes that may hit; in the
         // native formats all the leaf's spheres at once, plane by plane.
         if constexpr (std::is_same_v<A, ArithF32> || std::is_same_v<A, ArithF64>) {
