@@ -168,7 +168,8 @@ constexpr std::uint32_t kTraceWindowGroups = 256;
 }  // namespace
 
 bool write_streamed_trace(GroupStream& stream, TraceWriter& w, double& waited_s,
-                          const std::function<void(std::uint64_t, std::uint64_t)>& written) {
+                          const std::function<void(std::uint64_t, std::uint64_t)>& written,
+                          const std::function<void(const Trace&, const TraceGroup*)>& observe) {
     struct Stopped {};  // the front end stopped: it says why
     auto wait = [&](auto&& ready) {
         const auto w0 = std::chrono::steady_clock::now();
@@ -187,6 +188,7 @@ bool write_streamed_trace(GroupStream& stream, TraceWriter& w, double& waited_s,
             }
         });
         w.header(*header);
+        if (observe) observe(*header, nullptr);
         const std::uint64_t primary = header->primary_groups;
         for (std::uint64_t i = 0;; ++i) {
             if (i == primary) {
@@ -196,6 +198,7 @@ bool write_streamed_trace(GroupStream& stream, TraceWriter& w, double& waited_s,
             if (i >= primary && i == stream.total_groups()) break;
             wait([&] { return stream.wait_for(std::size_t(i + 1)); });
             w.group(stream.group(std::size_t(i)));
+            if (observe) observe(*header, &stream.group(std::size_t(i)));
             stream.release(std::size_t(i + 1));
             if (written) written(i + 1, i >= primary || stream.total_known() ? stream.total_groups() : primary);
         }

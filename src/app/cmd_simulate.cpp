@@ -47,6 +47,9 @@ void add_simulate_options(CLI::App* cmd, SimulateArgs& a) {
     cmd->add_option("--shard", a.shard,
                     "I/N: simulate only shard I of N, the passes p with p mod N = I, and write its partial result to "
                     "--json for raplas merge (docs/SHARDING.md)");
+    // (A shard process of --jobs: the process that feeds it the trace folds
+    // the workload hash once for all shards; the partial result leaves it empty.)
+    cmd->add_flag("--no-workload-hash", a.no_workload_hash)->group("");
     cmd->add_option("--shards", a.shards, "with --emit-jobs: the number of shards of the job lists")
         ->check(CLI::Range(1u, kMaxShards));
     cmd->add_option("--emit-jobs", a.emit_jobs,
@@ -218,6 +221,7 @@ int cmd_simulate(const SimulateArgs& a) {
         if (a.json.empty()) throw InputError("--shard needs --json FILE: the partial result raplas merge reads");
         check_shardable(cfg, "--shard " + a.shard);
     }
+    if (a.no_workload_hash && !sharded) throw UsageError("--no-workload-hash is for the shards of --jobs");
 
     auto t0 = clock::now();
     Trace trace;  // the whole trace, or (streamed) the header the stream copies
@@ -359,6 +363,7 @@ int cmd_simulate(const SimulateArgs& a) {
         run.quiet = so.quiet;
         run.progress = so.show_progress();
         run.tty = ::isatty(2);
+        run.pairless = cfg.icc.decoder.select == model::TriangleSelect::any;
         const int rc = simulate_local_shards(run, *stream, frontend);
         return rc == kFrontEndFailed ? report_front_end() : rc;
     }
@@ -379,6 +384,7 @@ int cmd_simulate(const SimulateArgs& a) {
     }
     const bool pairless = cfg.icc.decoder.select == model::TriangleSelect::any;
     WorkloadTally tally(header, pairless);
+    tally.fold_hash = !a.no_workload_hash;
     // The workload's figures and hash fold the trace in its own order.
     (trace_order ? trace_order : source)->observers.push_back(tally.observer());
     model::MemoryStats memory;
@@ -408,7 +414,7 @@ int cmd_simulate(const SimulateArgs& a) {
     ParamSet named_resolved = named, resolved = mp;
     for (ParamSet* p : {&named_resolved, &resolved})
         model::resolve_workload(*p, header.group_size, header.shadow_group_size, header.tris_per_sphere);
-    const Provenance provenance = make_provenance(named_resolved, resolved, tally.hasher.value());
+    const Provenance provenance = make_provenance(named_resolved, resolved, tally.fold_hash ? tally.hasher.value() : "");
     const WorkloadFacts facts = workload_facts(header, tally, result);
     SimReportInput in;
     in.provenance = &provenance;

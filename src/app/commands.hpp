@@ -55,6 +55,7 @@ struct SimulateArgs {
     bool dump_config = false;
     bool animation_row = false;  // --animation-row: the CSV row a sweep of animated scenes reads
     bool fresh = false;          // --fresh: a work dir of other inputs is emptied, not refused
+    bool no_workload_hash = false;  // (internal) a shard of --jobs: the feeding process folds the hash
 };
 
 // A machine config: a file, or a name in configs/ (the working directory's,

@@ -70,8 +70,10 @@ private:
 // end stopped first (its FrontEndThread says why); `waited_s` adds the
 // seconds spent waiting for it. `written`, if given, is told after each group
 // how many are written and of how many (the primary groups until the total
-// is known).
+// is known). `observe`, if given, sees the header (group null) and then each
+// group as it is written.
 bool write_streamed_trace(GroupStream& stream, TraceWriter& w, double& waited_s,
-                          const std::function<void(std::uint64_t written, std::uint64_t total)>& written = {});
+                          const std::function<void(std::uint64_t written, std::uint64_t total)>& written = {},
+                          const std::function<void(const Trace& header, const TraceGroup* g)>& observe = {});
 
 }  // namespace raplas

@@ -18,6 +18,7 @@
 
 #include "raplas/app/processes.hpp"
 #include "raplas/app/progress.hpp"
+#include "raplas/frontend/group_source.hpp"
 #include "raplas/util/error.hpp"
 
 namespace raplas {
@@ -83,7 +84,8 @@ int simulate_local_shards(const LocalShards& run, GroupStream& stream, FrontEndT
         (void)::fcntl(fd[1], F_SETPIPE_SZ, 1 << 20);  // (fewer wake-ups; the default size works too)
         std::vector<std::string> args{"simulate", "--trace", "/dev/stdin"};
         args.insert(args.end(), run.child_args.begin(), run.child_args.end());
-        args.insert(args.end(), {"--shard", std::to_string(i) + "/" + std::to_string(n), "--json", parts.back(), "-q"});
+        args.insert(args.end(), {"--shard", std::to_string(i) + "/" + std::to_string(n), "--json", parts.back(), "-q",
+                                 "--no-workload-hash"});
         try {
             pids.push_back(spawn_self(args, logs.back(), fd[0]));
         } catch (...) {
@@ -98,10 +100,12 @@ int simulate_local_shards(const LocalShards& run, GroupStream& stream, FrontEndT
     // The trace, as the front end makes it, to every shard (each takes its
     // passes and skips the others'; the slowest sets the pace). Each shard
     // holds a window of passes, so the groups handed over lead its simulation
-    // by no more: they show the run's progress.
+    // by no more: they show the run's progress. The workload hash is folded
+    // here, once, not by every shard.
     ProgressLine line(run.progress, run.tty);
     const std::string unit = "ray groups to " + std::to_string(n) + " shards";
     std::optional<std::size_t> gone;
+    std::optional<WorkloadTally> tally;
     try {
         TraceWriter w([&](const char* p, std::size_t bytes) {
             for (std::size_t i = 0; i < pipes.size(); ++i)
@@ -111,6 +115,9 @@ int simulate_local_shards(const LocalShards& run, GroupStream& stream, FrontEndT
         // (false: the front end stopped, and says why below)
         write_streamed_trace(stream, w, waited_s, [&](std::uint64_t done, std::uint64_t total) {
             line.draw(std::size_t(done), std::size_t(total), unit, "", std::size_t(done), std::size_t(total));
+        }, [&](const Trace& header, const TraceGroup* g) {
+            if (!g) tally.emplace(header, run.pairless);
+            else tally->add(*g);
         });
     } catch (const ShardGone& g) {
         gone = g.shard;
@@ -150,6 +157,7 @@ int simulate_local_shards(const LocalShards& run, GroupStream& stream, FrontEndT
     m.csv = run.csv;
     m.quiet = run.quiet;
     m.summary_only = true;
+    m.workload_hash = tally->hasher.value();
     return cmd_merge(m);
 }
 

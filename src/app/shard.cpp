@@ -558,7 +558,11 @@ int cmd_merge(const MergeArgs& a) {
     Provenance prov;
     for (const auto& [k, v] : first.obj(top, "overrides").items()) prov.overrides.emplace_back(k, v.dump());
     prov.config_hash = first.str(top, "config_hash");
+    // (the shards of simulate --jobs leave it to the process that fed them)
     prov.workload_hash = first.str(top, "workload_hash");
+    if (prov.workload_hash.empty() != !a.workload_hash.empty())
+        first.corrupt(prov.workload_hash.empty() ? "workload_hash is empty" : "workload_hash given twice");
+    if (prov.workload_hash.empty()) prov.workload_hash = a.workload_hash;
     prov.resolved_config = first.obj(top, "resolved_config");
     for (const auto& [k, v] : prov.overrides)
         if (!prov.resolved_config.contains(k)) first.corrupt("overrides names " + k + ", which resolved_config lacks");

@@ -71,6 +71,7 @@ struct LocalShards {
     std::string json, csv;
     bool quiet = false;
     bool progress = false, tty = false;  // a progress line on stderr (the groups handed to the shards), on a terminal or not
+    bool pairless = false;               // the workload hash covers the pair-less spheres (WorkloadTally)
 };
 class GroupStream;
 class FrontEndThread;
@@ -82,6 +83,7 @@ struct MergeArgs {
     std::string json, csv;
     bool quiet = false;
     bool summary_only = false;  // neither --json nor --csv needed: the summary is the output (simulate --jobs)
+    std::string workload_hash;  // simulate --jobs: the hash it folded; the parts leave theirs empty
 };
 void add_merge_options(CLI::App* cmd, MergeArgs& a);
 int cmd_merge(const MergeArgs& a);

@@ -211,6 +211,16 @@ TEST_F(Shard, WrongMergeIsRefusedAndWritesNothing) {
         return x.dump();
     }());
     refused({"e0.json", "e1.json"}, "e0.json: corrupt partial result: machine_config does not give config_hash");
+    // Parts whose hash the process that fed them folded (simulate --jobs) do
+    // not merge without it; the option is for shards only.
+    ASSERT_EQ(fork_raplas(plus(args, {"--shard", "0/2", "--json", "h0.json", "--no-workload-hash"})).code, 0);
+    ASSERT_EQ(fork_raplas(plus(args, {"--shard", "1/2", "--json", "h1.json", "--no-workload-hash"})).code, 0);
+    EXPECT_EQ(load(dir / "h1.json").at("workload_hash"), "");
+    refused({"h0.json", "h1.json"}, "h0.json: corrupt partial result: workload_hash is empty");
+    const Outcome whole = fork_raplas(plus(args, {"--json", "w.json", "--no-workload-hash"}));
+    EXPECT_EQ(whole.code, 2);
+    EXPECT_THAT(whole.err, HasSubstr("--no-workload-hash is for the shards of --jobs"));
+    EXPECT_FALSE(fs::exists(dir / "w.json"));
     // The good parts still merge.
     EXPECT_EQ(fork_raplas({"merge", "p0.json", "p1.json", "--json", "out.json", "-q"}).code, 0);
 }

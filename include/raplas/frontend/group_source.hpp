@@ -156,7 +156,7 @@ struct WorkloadTally {
             return;
         }
         counts += g.counts;
-        hasher.add(g);
+        if (fold_hash) hasher.add(g);
     }
     // An observer for GroupSource::observers that adds each group here.
     std::function<void(std::size_t, const TraceGroup&)> observer() {
@@ -166,6 +166,7 @@ struct WorkloadTally {
     std::uint64_t untraced = 0;  // placeholders: in `groups`, not in `counts` or the hash
     GroupCounts counts;
     WorkloadHasher hasher;
+    bool fold_hash = true;  // false: the hash is folded elsewhere (the shards of simulate --jobs)
 };
 
 // Ray groups handed over by the front end's worker threads and taken by the
