@@ -88,6 +88,20 @@ struct Reader {
         return v;
     }
     Vec3f get_vec() { float x = get<float>(), y = get<float>(), z = get<float>(); return {x, y, z}; }
+    // The same, for bytes a need() or get_count() has checked already.
+    template <class T> T take() {
+        T v;
+        std::memcpy(&v, in.data() + pos, sizeof(T));
+        pos += sizeof(T);
+        return v;
+    }
+    Vec3f take_vec() { float x = take<float>(), y = take<float>(), z = take<float>(); return {x, y, z}; }
+    std::uint64_t take_mask(std::uint32_t bytes) {
+        std::uint64_t m = 0;
+        for (std::uint32_t i = 0; i < bytes; ++i) m |= std::uint64_t(static_cast<unsigned char>(in[pos + i])) << (8 * i);
+        pos += bytes;
+        return m;
+    }
     std::string get_str() {
         auto n = get<std::uint32_t>();
         if (n > 4096) throw fail("string too long");
@@ -107,10 +121,7 @@ struct Reader {
     }
     std::uint64_t get_mask(std::uint32_t bytes) {
         need(bytes);
-        std::uint64_t m = 0;
-        for (std::uint32_t i = 0; i < bytes; ++i) m |= std::uint64_t(static_cast<unsigned char>(in[pos + i])) << (8 * i);
-        pos += bytes;
-        return m;
+        return take_mask(bytes);
     }
     std::uint64_t get_count(std::uint64_t per_item_bytes) {
         auto n = get<std::uint64_t>();
@@ -400,10 +411,10 @@ void parse_group(Reader& r, const Trace& t, std::uint64_t gi, TraceGroup& g) {
     if ((g.row_valid & ~full) || (g.col_valid & ~full)) throw r.fail("validity mask wider than the group");
     r.need(std::size_t(g.n) * 2 * 16);
     g.planes.resize(2 * g.n);
-    for (auto& p : g.planes) { p.n = r.get_vec(); p.w = r.get<float>(); }
+    for (auto& p : g.planes) { p.n = r.take_vec(); p.w = r.take<float>(); }
     r.need(std::size_t(g.n) * g.n * 12);
     g.dirs.resize(std::size_t(g.n) * g.n);
-    for (auto& d : g.dirs) d = r.get_vec();
+    for (auto& d : g.dirs) d = r.take_vec();
     g.counts.plane_tests = r.get<std::uint64_t>();
     g.counts.sphere_hits = r.get<std::uint64_t>();
     g.counts.rt_tests = r.get<std::uint64_t>();
@@ -413,10 +424,10 @@ void parse_group(Reader& r, const Trace& t, std::uint64_t gi, TraceGroup& g) {
     g.sphere_hits.resize(nh);
     std::uint64_t rt = 0;
     std::int64_t prev = -1;
-    for (auto& s : g.sphere_hits) {
-        s.sphere = r.get<std::uint32_t>();
-        s.rows = r.get_mask(mb);
-        s.cols = r.get_mask(mb);
+    for (auto& s : g.sphere_hits) {  // (get_count checked their bytes)
+        s.sphere = r.take<std::uint32_t>();
+        s.rows = r.take_mask(mb);
+        s.cols = r.take_mask(mb);
         if (s.sphere >= ns || std::int64_t(s.sphere) <= prev) throw r.fail("sphere hit list out of order or range");
         if (!s.rows || !s.cols || (s.rows & ~g.row_valid) || (s.cols & ~g.col_valid)) throw r.fail("bad plane-hit mask");
         prev = s.sphere;
@@ -451,8 +462,8 @@ void parse_group(Reader& r, const Trace& t, std::uint64_t gi, TraceGroup& g) {
     r.need(std::size_t(g.n) * g.n * 12);
     g.hits.resize(std::size_t(g.n) * g.n);
     for (auto& h : g.hits) {
-        h.t = r.get<double>();
-        h.tri = r.get<std::int32_t>();
+        h.t = r.take<double>();
+        h.tri = r.take<std::int32_t>();
         if (h.tri < -1 || h.tri >= std::int64_t(nt)) throw r.fail("hit triangle out of range");
     }
 }
