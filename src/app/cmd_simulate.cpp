@@ -221,7 +221,7 @@ int cmd_simulate(const SimulateArgs& a) {
         if (a.json.empty()) throw InputError("--shard needs --json FILE: the partial result raplas merge reads");
         check_shardable(cfg, "--shard " + a.shard);
     }
-    if (a.no_workload_hash && !sharded) throw UsageError("--no-workload-hash is for the shards of --jobs");
+    if (a.no_workload_hash && !sharded) throw InputError("--no-workload-hash is for the shards of --jobs");
 
     auto t0 = clock::now();
     Trace trace;  // the whole trace, or (streamed) the header the stream copies
