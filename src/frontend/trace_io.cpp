@@ -82,10 +82,7 @@ struct Reader {
     }
     template <class T> T get() {
         need(sizeof(T));
-        T v;
-        std::memcpy(&v, in.data() + pos, sizeof(T));
-        pos += sizeof(T);
-        return v;
+        return take<T>();
     }
     Vec3f get_vec() { float x = get<float>(), y = get<float>(), z = get<float>(); return {x, y, z}; }
     // The same, for bytes a need() or get_count() has checked already.
