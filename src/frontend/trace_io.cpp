@@ -84,7 +84,10 @@ struct Reader {
         need(sizeof(T));
         return take<T>();
     }
-    Vec3f get_vec() { float x = get<float>(), y = get<float>(), z = get<float>(); return {x, y, z}; }
+    Vec3f get_vec() {
+        need(12);
+        return take_vec();
+    }
     // The same, for bytes a need() or get_count() has checked already.
     template <class T> T take() {
         T v;
@@ -115,10 +118,6 @@ struct Reader {
             if (v > 0xffffffffull || (shift == 28 && (b & 0x80))) throw fail("run length beyond 32 bits");
             if (!(b & 0x80)) return std::uint32_t(v);
         }
-    }
-    std::uint64_t get_mask(std::uint32_t bytes) {
-        need(bytes);
-        return take_mask(bytes);
     }
     std::uint64_t get_count(std::uint64_t per_item_bytes) {
         auto n = get<std::uint64_t>();

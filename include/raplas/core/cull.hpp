@@ -272,15 +272,17 @@ inline void group_sphere_hits_culled(const A& a, const Plane* planes, const Plan
     for (Item it{0, row_valid, col_valid}; it.node != kEnd; it = stack[--top]) {
         const SphereTree::Node* ndp;
         std::uint64_t rows, cols;
+        bool may_hit;  // (some plane of each family may hit, or under `pairless` some plane at all)
         for (;;) {
             ndp = &nodes[it.node];
             rows = narrow(it.rows, 0, *ndp);
             cols = rows || pairless ? narrow(it.cols, n, *ndp) : 0;
-            if (!ndp->right || (!cols && (!pairless || !rows))) break;
+            may_hit = cols || (pairless && rows);
+            if (!may_hit || !ndp->right) break;
             stack[top++] = {ndp->right, rows, cols};
             it = {it.node + 1, rows, cols};
         }
-        if (!cols && (!pairless || !rows)) continue;
+        if (!may_hit) continue;
         const SphereTree::Node& nd = *ndp;
         // Leaf: the exact Eq. 1 test for the planes that may hit; in the
         // native formats all the leaf's spheres at once, plane by plane.
