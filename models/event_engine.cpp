@@ -868,13 +868,19 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         if ((backlog || occupancy > 1) && rdf_empty != 1) return false;
         if (hold_of[k] != kNoHold && holds[hold_of[k]].until >= c + 1 + stall_latency) return false;  // held
         // The i-th triangle of a coast finds at most occupancy + min(i,
-        // backlog) entries (older ones pop no later than this one, and the
-        // Fetcher takes one of the coast's each cycle once free): it must not
-        // fill the FIFO or raise its largest occupancy so far (nor raise its
-        // hold). `limit`: the most triangles a coast may take so.
+        // backlog) entries, itself included (older ones pop no later than
+        // this one, and the Fetcher takes one of the coast's each cycle once
+        // free). When no two entries in the FIFO pop in the same cycle it
+        // finds at most backlog + 1: pushed in a cycle c_i >= c + i, it finds
+        // the entries that pop after c_i up to its own pop, each in a cycle
+        // of its own, and pops in start + i <= c_i + backlog + 1 (or, when
+        // the Fetcher has run dry since the coast began, finds itself alone).
+        // It must not fill the FIFO or raise its largest occupancy so far
+        // (nor raise its hold). `limit`: the most triangles a coast may take so.
         const std::uint64_t most = std::min(Fifo<TriWork>::quiet_limit(tl.max_occupancy, tri_depth), hold_at - 1);
         if (occupancy > most) return false;
-        const std::uint64_t limit = occupancy + backlog <= most ? ~std::uint64_t(0) : most - occupancy;
+        const std::uint64_t reach = b.starts.ties() == 0 ? backlog + 1 : occupancy + backlog;
+        const std::uint64_t limit = reach <= most ? ~std::uint64_t(0) : most - occupancy;
         // The pair-less triangles it has still to take from here, in order:
         // those of the spheres queued in its FIFOs and, for a reference ICC,
         // of the spheres it is to queue next (its lists), up to the first

@@ -19,14 +19,20 @@ public:
     std::uint64_t& operator[](std::size_t i) { return buf_[(head_ + i) & mask_]; }
     std::uint64_t operator[](std::size_t i) const { return buf_[(head_ + i) & mask_]; }
     void push_back(std::uint64_t v) {
+        if (count_ && buf_[(head_ + count_ - 1) & mask_] == v) ++ties_;
         if (count_ == buf_.size()) grow();
         buf_[(head_ + count_) & mask_] = v;
         ++count_;
     }
     void pop_front() {
+        if (count_ > 1 && buf_[head_] == buf_[(head_ + 1) & mask_]) --ties_;
         head_ = (head_ + 1) & mask_;
         --count_;
     }
+    // How many entries equal the one before them (triangles popped in the
+    // same cycle as the one ahead). operator[]'s writes must keep it: the
+    // event mode only moves every entry by the same amount.
+    std::uint32_t ties() const { return ties_; }
 
 private:
     void grow() {
@@ -38,7 +44,7 @@ private:
     }
     std::vector<std::uint64_t> buf_;
     // (32 bits: with the Fetcher's queue, an ICC's record fills one cache line)
-    std::uint32_t head_ = 0, count_ = 0, mask_ = 0;
+    std::uint32_t head_ = 0, count_ = 0, mask_ = 0, ties_ = 0;
 };
 
 }  // namespace raplas::model
