@@ -87,6 +87,11 @@
 //     but some cruise or doze (a lone ICC under the any-plane reading): the
 //     shared side still follows the stream, and the Decoder's hand-overs it
 //     passes only move the ICCs' cursors, which the next stepped cycle does.
+//     With one batch per sphere it is not even ticked while no ICC is on it:
+//     never held, it takes each sphere when every ICC's Sphere FIFO does and
+//     decides it no later, so it has run dry, every sphere broadcast
+//     decided, by the time an ICC's own sphere side has, the only time an
+//     ICC reads it (to rejoin); it is set so then.
 //  8. The only ICC stepped on its own whose PSI pipe is full (one batch per
 //     sphere; under the any-plane reading mostly one whose coast's pops
 //     free a FIFO slot every few cycles, each letting its Decoder decide up
@@ -328,10 +333,27 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     // nothing in the PSI, every sphere received decided) is in the state the
     // shared side is in when that has run dry too: it rejoins it, and is
     // stepped with it again until its Decoder holds next.
+    // With no ICC on it, the shared side is read only when an ICC may
+    // rejoin, once that ICC's own sphere side has run dry. With one batch
+    // per sphere the shared side, never held, is a delay line that takes the
+    // spheres broadcast when that ICC's Sphere FIFO does and decides each no
+    // later: it has run dry by then too, every sphere broadcast decided. It
+    // is therefore left "off" (not ticked) while no ICC is on it, and set so
+    // when an ICC's own side runs dry. (What it counts meanwhile is owed to
+    // no ICC: an ICC is owed what it counts from its (re)joining on.)
+    const bool may_leave_shared = cfg_.fault == Fault::none && rp.batches() == 1;
+    bool shared_off = false;
     auto may_rejoin = [&](std::uint32_t k) {
         const Icc& c = *active[k];
-        return c.sphere_fifo.empty() && c.psi.drained() && !c.psi.stuck() && rf.empty() && rp.drained() &&
-               c.decoder.decided() == rd.decided();
+        if (!(c.sphere_fifo.empty() && c.psi.drained() && !c.psi.stuck())) return false;
+        if (shared_off) {
+            const std::uint32_t broadcast = std::uint32_t(sphere_link.position());
+            rf.clear();
+            rp.set_drained(broadcast);
+            rd.set_decided(broadcast);
+            shared_off = false;
+        }
+        return rf.empty() && rp.drained() && c.decoder.decided() == rd.decided();
     };
 
     // Coasting (4. in the header): ICC k takes the triangles of its queued
@@ -1019,9 +1041,26 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     auto spheres_stream = [&](std::uint64_t d) {
         sphere_memory.read_many(d);
         sphere_link.sent_many(d);
+        if (shared_off) return;
         rp.fast_forward(d, rf.front());
         rf.advance(std::uint32_t(d));
         rd.set_decided(rd.decided() + std::uint32_t(d));
+    };
+    // The shared side streams steadily: a sphere in and a decision out each cycle while the stream sends one.
+    auto shared_streams = [&] {
+        return rp.batches() == 1 && rp.in_flight() == stages && rp.has_output() && !rf.empty() && !rf.full();
+    };
+    // d skipped cycles that each send a sphere, the shared side ticked as the steps tick it until it streams.
+    auto spheres_follow = [&](std::uint64_t d) {
+        for (; d && !shared_off && !shared_streams(); --d) {
+            const std::uint64_t s = sphere_link.position();
+            sphere_memory.read(std::size_t(s));
+            sphere_link.sent();
+            tick_shared_side(sphere_link.has_record());
+            rf.push(std::uint32_t(s));
+            ref_max = std::max<std::uint64_t>(ref_max, rf.size());
+        }
+        if (d) spheres_stream(d);
     };
     // d skipped cycles in which the sphere stream is stopped: the shared side, which nothing reads
     // meanwhile, is ticked until it runs dry, then idles.
@@ -1029,7 +1068,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         no_sphere_cycles += d;
         sphere_link.stalled(d);
         std::uint64_t drain = 0;
-        for (; drain < d && !(rf.empty() && rp.drained()); ++drain) {
+        for (; drain < d && !shared_off && !(rf.empty() && rp.drained()); ++drain) {
             lazy_sphere_blocked += n_ref && rf.full();
             tick_shared_side(true);
         }
@@ -1114,7 +1153,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         // closed form already (`back`). The cycles up to the last are idle
         // on both links.
         if (!t_has && !s_has && !triangle_link.has_record() && selecting.empty() && dozers.empty() &&
-            cruisers.empty() && rf.empty() && rp.in_flight() == 0) {
+            cruisers.empty() && (shared_off || (rf.empty() && rp.in_flight() == 0))) {
             const std::uint64_t last = p.drain ? max_done : prev_done;  // the pass's last cycle
             bool quiet = last != kNever;
             for (std::uint32_t k : individuals)
@@ -1147,13 +1186,13 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
             (cruisers.empty() || std::int64_t(cycle) + cruise_offset > std::int64_t(ts))) {
             // (Steady with no reference ICC too, every ICC then cruising or dozing: a cruiser decides a sphere
             // a cycle and its Sphere FIFO stays as it is while the stream moves, a dozer's Sphere FIFO takes the
-            // spheres up to its bound below; the shared side follows the stream all the same.)
-            const bool s_steady = na > 0 && individuals.empty() && dozers_full == 0 &&
-                                  s_has && rp.batches() == 1 && rp.in_flight() == stages && rp.has_output() &&
-                                  !rf.empty() && !rf.full();
+            // spheres up to its bound below; the shared side follows the stream all the same, ticked as the
+            // steps tick it until it streams: nothing but a rejoining ICC reads it.)
+            const bool s_steady = na > 0 && individuals.empty() && dozers_full == 0 && s_has &&
+                                  (n_ref == 0 || shared_streams());
             // (done but for dozers, which change nothing but counts up to a selection that pops their FIFOs,
             // and cruisers, which decide a sphere a cycle from their Sphere FIFOs up to the bounds below)
-            bool s_done = !s_has && rf.empty() && rp.in_flight() == 0 && doze_decided > ts;
+            bool s_done = !s_has && (shared_off || (rf.empty() && rp.in_flight() == 0)) && doze_decided > ts;
             // (with no hand-over due to a sphere it holds, the shared side runs dry in the skip as the steps
             // would run it: nothing reads it meanwhile)
             bool s_frozen = s_has && !(individuals.empty() && dozers.empty()) &&
@@ -1214,7 +1253,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
             // stepped cycle ends; the event's cycle is stepped.
             if ((t_flows || t_held) && (s_steady || s_done || s_frozen) && d > 0) {
                 if (s_steady) {
-                    spheres_stream(d);
+                    spheres_follow(d);
                 } else if (s_frozen) {
                     spheres_stopped(d);
                     for (std::uint32_t k : individuals) active[k]->hold_front(d);
@@ -1284,8 +1323,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                     };
                     // ... while its Sphere FIFO fills and the shared side streams
                     // steadily (its hand-overs bound them as in the skips).
-                    if (holds_on && occupancy < s_depth && rp.batches() == 1 && rp.in_flight() == stages &&
-                        rp.has_output() && !rf.empty() && !rf.full()) {
+                    if (holds_on && occupancy < s_depth && (shared_off || shared_streams())) {
                         std::uint64_t d = held_for(s_depth - occupancy);
                         d = std::min<std::uint64_t>(d, sphere_link.end() - 1 - sphere_link.position());
                         if (!kept_at.empty()) d = std::min<std::uint64_t>(d, kept_at.min_key() - rp.output().sphere);
@@ -1322,10 +1360,12 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                     if (t >= 0) note_sent(std::uint64_t(t), cycle);
                     const bool spheres_pending = sphere_link.has_record();
                     if (s < 0) ++no_sphere_cycles;
-                    tick_shared_side(spheres_pending);
-                    if (s >= 0) {
-                        rf.push(std::uint32_t(s));
-                        ref_max = std::max<std::uint64_t>(ref_max, rf.size());
+                    if (!shared_off) {
+                        tick_shared_side(spheres_pending);
+                        if (s >= 0) {
+                            rf.push(std::uint32_t(s));
+                            ref_max = std::max<std::uint64_t>(ref_max, rf.size());
+                        }
                     }
                     if (std::uint32_t(t) + 1 >= pop_at) {  // its coast passes the end of its head entry
                         catch_up(k, std::uint32_t(t) + 1);
@@ -1477,7 +1517,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
 
         // ---- shared Decoder: release hit spheres to the reference ICCs ----
         diverged.clear();
-        if (rp.has_output()) {
+        if (!shared_off && rp.has_output()) {
             const std::uint32_t x = rp.output().sphere;
             // Moves ICC k's cursor on, to its next kept sphere; returns the masks of this one.
             auto advance = [&](std::uint32_t k) {
@@ -1505,6 +1545,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                         adopt_reference(k);  // its Decoder holds: it has its own sphere side until it rejoins
                         role[k] = individual;
                         --n_ref;
+                        shared_off = n_ref == 0 && may_leave_shared;
                         diverged.push_back(k);
                         return;
                     }
@@ -1524,10 +1565,12 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                     advance(k);
                 });
         }
-        tick_shared_side(spheres_pending);
-        if (s >= 0) {
-            rf.push(std::uint32_t(s));
-            ref_max = std::max<std::uint64_t>(ref_max, rf.size());
+        if (!shared_off) {
+            tick_shared_side(spheres_pending);
+            if (s >= 0) {
+                rf.push(std::uint32_t(s));
+                ref_max = std::max<std::uint64_t>(ref_max, rf.size());
+            }
         }
 
         // ---- individual ICCs: their own sphere side -----------------------

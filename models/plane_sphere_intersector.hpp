@@ -107,6 +107,15 @@ public:
     // FIFO that does not run dry. Only for one batch per sphere and a full
     // pipe that is free to issue.
     void cruise(std::uint64_t n) { stream(n, next_sphere_, true); }
+    // Event-driven simulation: run dry, having issued the group's first
+    // `issued` spheres (a pipe of the same stream, never held, once its
+    // input has run dry).
+    void set_drained(std::uint32_t issued) {
+        head_ = tail_ = count_ = 0;
+        next_issue_ = std::min(next_issue_, t_);
+        next_sphere_ = issued;
+        group_spheres_ = issued;
+    }
     // Free to issue a sphere this cycle (no later batch of the last one pending).
     bool free_to_issue() const { return t_ >= next_issue_; }
     // n cycles with nothing in flight and nothing to take (event-driven simulation).
