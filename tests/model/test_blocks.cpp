@@ -4,6 +4,7 @@
 #include <random>
 
 #include "bucket_queue.hpp"
+#include "ring_queue.hpp"
 #include "icc.hpp"
 
 using namespace raplas;
@@ -334,4 +335,30 @@ TEST(BucketQueue, SmallestKeyIsAlwaysTheSmallestUsedOne) {
         }
         ASSERT_GT(taken, 0u);
     }
+}
+
+// The Triangle FIFO's record of pop cycles counts the entries that pop in the
+// same cycle as the one before them (the event mode's coasts rely on it):
+// against a recount, through pushes, pops, growth and a shift of every entry.
+TEST(RingQueue, TiesAreTheEntriesEqualToTheOneBefore) {
+    std::mt19937 rng(11);
+    RingQueue q;
+    std::uint64_t last = 100;
+    std::size_t seen_ties = 0;
+    for (int step = 0; step < 20000; ++step) {
+        if (q.empty() || rng() % 5 < 3) {
+            last += rng() % 3 == 0 ? 0 : 1 + rng() % 4;  // (a third pop in the same cycle as the one before)
+            q.push_back(last);
+        } else {
+            q.pop_front();
+        }
+        if (step % 997 == 0)  // the event mode moves every entry to the next pass's cycles
+            for (std::size_t i = 0; i < q.size(); ++i) q[i] -= 50;
+        if (step % 997 == 0) last -= 50;
+        std::uint32_t ties = 0;
+        for (std::size_t i = 1; i < q.size(); ++i) ties += q[i] == q[i - 1];
+        ASSERT_EQ(q.ties(), ties) << "step " << step;
+        seen_ties += ties;
+    }
+    EXPECT_GT(seen_ties, 0u);
 }
