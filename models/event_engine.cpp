@@ -1046,6 +1046,8 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         rf.advance(std::uint32_t(d));
         rd.set_decided(rd.decided() + std::uint32_t(d));
     };
+    // Nothing is in the shared side (or it is off, and so read as dry when it is next read).
+    auto shared_empty = [&] { return shared_off || (rf.empty() && rp.in_flight() == 0); };
     // The shared side streams steadily: a sphere in and a decision out each cycle while the stream sends one.
     auto shared_streams = [&] {
         return rp.batches() == 1 && rp.in_flight() == stages && rp.has_output() && !rf.empty() && !rf.full();
@@ -1153,7 +1155,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
         // closed form already (`back`). The cycles up to the last are idle
         // on both links.
         if (!t_has && !s_has && !triangle_link.has_record() && selecting.empty() && dozers.empty() &&
-            cruisers.empty() && (shared_off || (rf.empty() && rp.in_flight() == 0))) {
+            cruisers.empty() && shared_empty()) {
             const std::uint64_t last = p.drain ? max_done : prev_done;  // the pass's last cycle
             bool quiet = last != kNever;
             for (std::uint32_t k : individuals)
@@ -1192,7 +1194,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                                   (n_ref == 0 || shared_streams());
             // (done but for dozers, which change nothing but counts up to a selection that pops their FIFOs,
             // and cruisers, which decide a sphere a cycle from their Sphere FIFOs up to the bounds below)
-            bool s_done = !s_has && (shared_off || (rf.empty() && rp.in_flight() == 0)) && doze_decided > ts;
+            bool s_done = !s_has && shared_empty() && doze_decided > ts;
             // (with no hand-over due to a sphere it holds, the shared side runs dry in the skip as the steps
             // would run it: nothing reads it meanwhile)
             bool s_frozen = s_has && !(individuals.empty() && dozers.empty()) &&

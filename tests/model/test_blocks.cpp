@@ -352,9 +352,10 @@ TEST(RingQueue, TiesAreTheEntriesEqualToTheOneBefore) {
         } else {
             q.pop_front();
         }
-        if (step % 997 == 0)  // the event mode moves every entry to the next pass's cycles
+        if (step % 997 == 0) {  // the event mode moves every entry to the next pass's cycles
             for (std::size_t i = 0; i < q.size(); ++i) q[i] -= 50;
-        if (step % 997 == 0) last -= 50;
+            last -= 50;
+        }
         std::uint32_t ties = 0;
         for (std::size_t i = 1; i < q.size(); ++i) ties += q[i] == q[i - 1];
         ASSERT_EQ(q.ties(), ties) << "step " << step;
