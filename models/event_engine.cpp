@@ -1052,15 +1052,22 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
     auto shared_streams = [&] {
         return rp.batches() == 1 && rp.in_flight() == stages && rp.has_output() && !rf.empty() && !rf.full();
     };
+    // The shared side's cycle, sphere s broadcast in it (-1: none), unless it is off.
+    auto shared_step = [&](std::int64_t s, bool spheres_pending) {
+        if (shared_off) return;
+        tick_shared_side(spheres_pending);
+        if (s >= 0) {
+            rf.push(std::uint32_t(s));
+            ref_max = std::max<std::uint64_t>(ref_max, rf.size());
+        }
+    };
     // d skipped cycles that each send a sphere, the shared side ticked as the steps tick it until it streams.
     auto spheres_follow = [&](std::uint64_t d) {
         for (; d && !shared_off && !shared_streams(); --d) {
             const std::uint64_t s = sphere_link.position();
             sphere_memory.read(std::size_t(s));
             sphere_link.sent();
-            tick_shared_side(sphere_link.has_record());
-            rf.push(std::uint32_t(s));
-            ref_max = std::max<std::uint64_t>(ref_max, rf.size());
+            shared_step(std::int64_t(s), sphere_link.has_record());
         }
         if (d) spheres_stream(d);
     };
@@ -1362,13 +1369,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                     if (t >= 0) note_sent(std::uint64_t(t), cycle);
                     const bool spheres_pending = sphere_link.has_record();
                     if (s < 0) ++no_sphere_cycles;
-                    if (!shared_off) {
-                        tick_shared_side(spheres_pending);
-                        if (s >= 0) {
-                            rf.push(std::uint32_t(s));
-                            ref_max = std::max<std::uint64_t>(ref_max, rf.size());
-                        }
-                    }
+                    shared_step(s, spheres_pending);
                     if (std::uint32_t(t) + 1 >= pop_at) {  // its coast passes the end of its head entry
                         catch_up(k, std::uint32_t(t) + 1);
                         pop_at = head_end();
@@ -1567,13 +1568,7 @@ std::uint64_t Top::run_pass_event(const Host::Pass& p, std::uint8_t buf) {
                     advance(k);
                 });
         }
-        if (!shared_off) {
-            tick_shared_side(spheres_pending);
-            if (s >= 0) {
-                rf.push(std::uint32_t(s));
-                ref_max = std::max<std::uint64_t>(ref_max, rf.size());
-            }
-        }
+        shared_step(s, spheres_pending);
 
         // ---- individual ICCs: their own sphere side -----------------------
         for (std::uint32_t k : diverged) individuals.push_back(k);
