@@ -50,16 +50,18 @@ public:
         std::uint64_t reads = 0;
     };
     explicit TriangleMemory(const Params& p) : params_(p) {}
-    void load(std::vector<TriangleRec> tris, std::vector<std::uint32_t> sphere_of) {
-        tris_ = std::move(tris);
+    // The triangles are read where they are (the trace header's, which
+    // outlives the model), not copied.
+    void load(const std::vector<TriangleRec>& tris, std::vector<std::uint32_t> sphere_of) {
+        tris_ = &tris;
         sphere_of_ = std::move(sphere_of);
     }
-    std::size_t size() const { return tris_.size(); }
+    std::size_t size() const { return tris_ ? tris_->size() : 0; }
     const TriangleRec& read(std::size_t i) {
         ++stats_.reads;
-        return tris_[i];
+        return (*tris_)[i];
     }
-    const TriangleRec& peek(std::size_t i) const { return tris_[i]; }
+    const TriangleRec& peek(std::size_t i) const { return (*tris_)[i]; }
     void read_many(std::uint64_t n) { stats_.reads += n; }
     // The sphere a triangle belongs to (its position in the stream identifies it).
     std::uint32_t sphere_of(std::size_t i) const { return sphere_of_[i]; }
@@ -68,7 +70,7 @@ public:
 
 private:
     Params params_;
-    std::vector<TriangleRec> tris_;
+    const std::vector<TriangleRec>* tris_ = nullptr;
     std::vector<std::uint32_t> sphere_of_;
     Stats stats_;
 };

@@ -101,7 +101,7 @@ void check_keys_apply(const ParamSet& mp, const std::vector<std::string>& config
         const std::string k = s.substr(0, s.find('='));
         if (!trace.empty()) {
             // What the trace fixes: its header (read up to its HEAD block) says the value.
-            const Trace h = TraceReader(trace).header();
+            const Trace h = TraceReader(trace).take_header();
             const std::pair<const char*, std::uint32_t> fixed[] = {
                 {"image.width", h.width},  {"image.height", h.height}, {"groups.size", h.group_size},
                 {"groups.shadow_size", h.shadow_group_size}, {"spheres.triangles_per_sphere", h.tris_per_sphere}};
@@ -224,7 +224,7 @@ int cmd_simulate(const SimulateArgs& a) {
     if (a.no_workload_hash && !sharded) throw InputError("--no-workload-hash is for the shards of --jobs");
 
     auto t0 = clock::now();
-    Trace trace;  // the whole trace, or (streamed) the header the stream copies
+    Trace trace;  // the whole trace, or (streamed) the header, moved to the stream
     std::string scene_name;
     std::unique_ptr<GroupSource> source;
     GroupStream* stream = nullptr;
@@ -256,7 +256,7 @@ int cmd_simulate(const SimulateArgs& a) {
             check_trace_read(a.trace, std::uint64_t(st.st_size));
         if (streamed) {
             trace_reader = std::make_shared<TraceReader>(a.trace);  // the file header and the HEAD block
-            trace = trace_reader->header();
+            trace = trace_reader->take_header();
         } else {
             trace = read_trace(a.trace);
         }

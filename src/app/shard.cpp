@@ -612,7 +612,7 @@ int emit_shard_jobs(const SimulateArgs& a, const ParamSet& mp, const model::SimC
     for (const auto& [opt, path] : {std::pair<const char*, std::string>{"--trace", a.trace}, {"--scene", so.scene},
                                     {"--mesh", so.mesh}})
         if (!path.empty() && !is_file(path)) throw InputError(std::string(opt) + " " + path + ": no such file");
-    if (!a.trace.empty()) check_trace_workload(TraceReader(a.trace).header(), mp, a.trace);
+    if (!a.trace.empty()) check_trace_workload(TraceReader(a.trace).take_header(), mp, a.trace);
 
     // The --set keys: config keys go to every shard, scene keys to the trace.
     std::vector<std::string> config_sets, scene_sets;

@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <type_traits>
 
@@ -390,9 +391,9 @@ void parse_head(Reader& r, Trace& t) {
 }
 
 // Group gi of trace t (whose header is read) from a GROUPS block.
-void parse_group(Reader& r, const Trace& t, std::uint64_t gi, TraceGroup& g) {
+// (`ns` spheres and `nt` triangles: t's, or their counts once its geometry is taken)
+void parse_group(Reader& r, const Trace& t, std::size_t ns, std::size_t nt, std::uint64_t gi, TraceGroup& g) {
     g = TraceGroup{};
-    const std::size_t ns = t.spheres.size(), nt = t.triangles.size();
     auto kind = r.get<std::uint8_t>();
     if (kind > 1) throw r.fail("bad group kind");
     g.kind = GroupKind(kind);
@@ -568,6 +569,9 @@ void write_trace(const std::string& path, const Trace& t) { write_file_atomicall
 struct TraceReader::Source {
     virtual ~Source() = default;
     virtual std::size_t read(char* dst, std::size_t n) = 0;
+    // How many bytes are left to read, when that is known (a file, bytes in
+    // memory; not a pipe).
+    virtual std::optional<std::uint64_t> left() const { return std::nullopt; }
     std::uint64_t offset = 0;  // bytes read so far
 };
 
@@ -582,13 +586,19 @@ struct MemorySource : TraceReader::Source {
         offset += k;
         return k;
     }
+    std::optional<std::uint64_t> left() const override { return bytes.size() - offset; }
 };
 
 struct FdSource : TraceReader::Source {
     int fd = -1;
     std::string path;
+    std::optional<std::uint64_t> size;  // a regular file's, when opened
     ~FdSource() override {
         if (fd >= 0) ::close(fd);
+    }
+    std::optional<std::uint64_t> left() const override {
+        if (!size || *size < offset) return std::nullopt;
+        return *size - offset;
     }
     std::size_t read(char* dst, std::size_t n) override {
         std::size_t got = 0;
@@ -615,6 +625,7 @@ TraceReader::TraceReader(const std::string& path) : name_(path) {
     src->path = path;
     src->fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
     if (src->fd < 0) throw InputError(path + ": cannot open trace: " + std::strerror(errno));
+    if (::fstat(src->fd, &st) == 0 && S_ISREG(st.st_mode)) src->size = std::uint64_t(st.st_size);
     src_ = std::move(src);
     next_block();
 }
@@ -690,6 +701,10 @@ bool TraceReader::next_block() {
     // is found to be truncated, never allocated at once).
     constexpr std::size_t kChunk = std::size_t(1) << 20;
     payload_.clear();
+    // (a block the source holds whole is given its room at once: the HEAD
+    // block is most of a trace's header, and grown by doubling it would be
+    // copied into ever larger buffers)
+    if (const auto left = src_->left(); left && size <= *left) payload_.reserve(std::size_t(size));
     while (payload_.size() < size) {
         const std::size_t want = std::size_t(std::min<std::uint64_t>(kChunk, size - payload_.size()));
         const std::size_t old = payload_.size();
@@ -709,6 +724,8 @@ bool TraceReader::next_block() {
     switch (TraceBlock(kind)) {
         case TraceBlock::head:
             parse_head(r, header_);
+            spheres_ = header_.spheres.size();
+            triangles_ = header_.triangles.size();
             return true;
         case TraceBlock::groups:
             left_ = r.get<std::uint32_t>();
@@ -750,18 +767,35 @@ bool TraceReader::next(TraceGroup& g) {
         if (ended_ || !next_block()) return false;
     }
     Reader r{payload_, pos_, name_, payload_at_};
-    parse_group(r, header_, groups_read_, g);
+    parse_group(r, header_, spheres_, triangles_, groups_read_, g);
     pos_ = r.pos;
     ++groups_read_;
     if (--left_ == 0 && pos_ != payload_.size()) throw r.fail("trailing bytes in the GROUPS block");
     return true;
 }
 
+Trace TraceReader::take_header() {
+    std::vector<Sphere> spheres = std::move(header_.spheres);
+    std::vector<std::uint32_t> first_tri = std::move(header_.first_tri);
+    std::vector<TriangleRec> triangles = std::move(header_.triangles);
+    std::vector<std::int32_t> tri_mesh_index = std::move(header_.tri_mesh_index);
+    header_.spheres.clear();
+    header_.first_tri.clear();
+    header_.triangles.clear();
+    header_.tri_mesh_index.clear();
+    Trace t = header_;  // (the rest is small)
+    t.spheres = std::move(spheres);
+    t.first_tri = std::move(first_tri);
+    t.triangles = std::move(triangles);
+    t.tri_mesh_index = std::move(tri_mesh_index);
+    return t;
+}
+
 namespace {
 
 // The header and every group a reader gives.
 Trace read_whole(TraceReader& r) {
-    Trace t = r.header();
+    Trace t = r.take_header();
     TraceGroup g;
     while (r.next(g)) t.groups.push_back(std::move(g));
     t.content_hash = r.content_hash();

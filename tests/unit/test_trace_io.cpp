@@ -309,6 +309,37 @@ TEST(TraceIo, SerializeParseRoundTripIsExact) {
     EXPECT_TRUE(serialize_trace(make_trace(r.scene, f1, fo.format, true)) == r.bytes);
 }
 
+TEST(TraceIo, TakenHeaderLeavesTheReaderItsGroups) {
+    // The header moved out of a reader (what a streamed run keeps) has the
+    // geometry; the reader keeps none of it and still reads and checks the
+    // groups against the sphere and triangle counts.
+    const Rendered& r = rendered();
+    TraceReader rd(r.bytes, "mem.trace");
+    Trace back = rd.take_header();
+    EXPECT_TRUE(rd.header().triangles.empty());
+    EXPECT_TRUE(rd.header().spheres.empty());
+    EXPECT_EQ(rd.header().tri_count, r.trace.tri_count);
+    TraceGroup g;
+    while (rd.next(g)) back.groups.push_back(std::move(g));
+    back.content_hash = rd.content_hash();
+    expect_same_trace(r.trace, back);
+    EXPECT_EQ(serialize_trace(back), r.bytes);
+
+    Trace bad = r.trace;
+    std::size_t i = 0;
+    while (bad.groups[i].hits.empty()) ++i;
+    bad.groups[i].hits[0].tri = std::int32_t(bad.triangles.size());
+    const std::string bad_bytes = serialize_trace(bad);
+    TraceReader rb(bad_bytes, "bad.trace");
+    (void)rb.take_header();
+    EXPECT_THROW(
+        {
+            while (rb.next(g)) {
+            }
+        },
+        InputError);
+}
+
 TEST(TraceIo, HitsReplayFromTheTraceAlone) {
     // A consumer of the trace (the timing model) recomputes the same nearest
     // hits from its spheres, triangles and groups.

@@ -158,6 +158,10 @@ public:
     TraceReader& operator=(const TraceReader&) = delete;
 
     const Trace& header() const { return header_; }  // its groups stay empty
+    // The header moved out, for a reader that is only to give the groups:
+    // header() then holds no spheres or triangles (their counts and the
+    // triangles per sphere, which the groups' checks read, stay).
+    Trace take_header();
     // The next group in issue order into `g`; false once the END block is
     // read (and nothing follows it).
     bool next(TraceGroup& g);
@@ -178,6 +182,7 @@ private:
     std::string name_;
     std::uint32_t version_ = kTraceVersion;  // the file's format version
     Trace header_;
+    std::size_t spheres_ = 0, triangles_ = 0;  // the header's counts
     std::string payload_;    // the current GROUPS block
     std::size_t pos_ = 0;    // next byte of it
     std::uint64_t payload_at_ = 0;  // its offset in the file
