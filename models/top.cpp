@@ -8,7 +8,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <future>
 #include <sstream>
 
 #include "raplas/util/atomic_file.hpp"
@@ -16,6 +15,7 @@
 #include "raplas/util/error.hpp"
 #include "raplas/util/parallel.hpp"
 #include "raplas/util/priority.hpp"
+#include "raplas/util/worker.hpp"
 
 namespace raplas::model {
 
@@ -418,7 +418,7 @@ void Top::run_passes() {
         const ScopeWall timed(result_.model_waits_s);
         return wait();
     };
-    std::future<void> ahead;  // the next pass's preload, running
+    Worker feeder([] { lower_thread_priority(kFeederNice); });  // the next pass's preload
     std::size_t ahead_pass = kNone;
     for (std::size_t i = 0;; ++i) {
         if (i == passes.size()) {
@@ -451,7 +451,7 @@ void Top::run_passes() {
         } else {
             {  // (the wait for this pass's groups to be loaded, timed)
                 const ScopeWall timed(result_.load_waits_s);
-                if (ahead.valid()) ahead.get();
+                feeder.wait();
                 if (ahead_pass != i) preload(pass, buf);
             }
             // The next pass's groups are loaded into the other buffer (their
@@ -463,10 +463,7 @@ void Top::run_passes() {
             if (!cfg_.overlap_passes && ci < chosen.size() && chosen[ci] < passes.size() && chosen[ci] % 2 != buf &&
                 groups_.has(passes[chosen[ci]].end)) {
                 ahead_pass = chosen[ci];
-                ahead = std::async(std::launch::async, [this, next = passes[ahead_pass], nb = std::uint8_t(1 - buf)] {
-                    lower_thread_priority(kFeederNice);
-                    preload(next, nb);
-                });
+                feeder.run([this, next = passes[ahead_pass], nb = std::uint8_t(1 - buf)] { preload(next, nb); });
             }
             c = event_mode_ ? run_pass_event(pass, buf) : run_pass_netlist(pass, buf);
             if (!error_.empty()) break;  // the watchdog fired

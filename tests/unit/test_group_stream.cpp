@@ -17,6 +17,7 @@
 #include "raplas/scene/scene.hpp"
 #include "raplas/util/error.hpp"
 #include "raplas/util/params.hpp"
+#include "raplas/util/worker.hpp"
 
 namespace {
 
@@ -215,6 +216,53 @@ TEST(GroupStream, WorkersWaitForRoomAndACancelReleasesThem) {
     worker.join();
     EXPECT_EQ(state.load(), 3);
     EXPECT_EQ(s.peak_held(), 2u);  // never more than the window
+}
+
+// The thread that loads the model's next pass ahead: each job runs on it,
+// one at a time, on the same thread; wait() returns once the job is done and
+// rethrows its failure; a job not waited for is still finished before the
+// worker goes.
+TEST(Worker, RunsEachJobOnItsOneThreadAndRethrowsAtTheWait) {
+    std::thread::id started;
+    Worker w([&] { started = std::this_thread::get_id(); });
+    w.wait();  // (nothing handed over yet)
+    std::vector<std::thread::id> ran;
+    int sum = 0;
+    for (int i = 1; i <= 50; ++i) {
+        w.run([&, i] {
+            ran.push_back(std::this_thread::get_id());
+            sum += i;
+        });
+        w.wait();
+        EXPECT_EQ(sum, i * (i + 1) / 2);
+    }
+    ASSERT_EQ(ran.size(), 50u);
+    EXPECT_NE(ran[0], std::this_thread::get_id());
+    EXPECT_EQ(ran[0], started);
+    for (const auto& id : ran) EXPECT_EQ(id, ran[0]);
+
+    w.run([] { throw InputError("group 7: bad"); });
+    EXPECT_THROW(w.wait(), InputError);
+    w.wait();  // (the failure is given once)
+    w.run([&] { sum = -1; });
+    EXPECT_THROW(w.run([] {}), std::logic_error);  // the last job was not waited for
+    w.wait();
+    EXPECT_EQ(sum, -1);
+}
+
+TEST(Worker, FinishesAJobNotWaitedForBeforeItGoes) {
+    std::atomic<bool> done{false};
+    {
+        Worker w;
+        w.run([&] {
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+            done = true;
+        });
+    }
+    EXPECT_TRUE(done.load());
+    {
+        Worker idle;  // never handed a job: no thread to end
+    }
 }
 
 }  // namespace
