@@ -50,6 +50,10 @@ void add_simulate_options(CLI::App* cmd, SimulateArgs& a) {
     // (A shard process of --jobs: the process that feeds it the trace folds
     // the workload hash once for all shards; the partial result leaves it empty.)
     cmd->add_flag("--no-workload-hash", a.no_workload_hash)->group("");
+    // (A sweep's point: the sweep folds the workload hash of each trace once
+    // for all its points, as HASH@CONTENT, CONTENT the trace's content hash;
+    // the point takes HASH when the trace it reads has that content.)
+    cmd->add_option("--workload-hash", a.workload_hash)->group("");
     cmd->add_option("--shards", a.shards, "with --emit-jobs: the number of shards of the job lists")
         ->check(CLI::Range(1u, kMaxShards));
     cmd->add_option("--emit-jobs", a.emit_jobs,
@@ -222,6 +226,19 @@ int cmd_simulate(const SimulateArgs& a) {
         check_shardable(cfg, "--shard " + a.shard);
     }
     if (a.no_workload_hash && !sharded) throw InputError("--no-workload-hash is for the shards of --jobs");
+    std::string given_hash, given_content;  // --workload-hash
+    if (!a.workload_hash.empty()) {
+        const auto at = a.workload_hash.find('@');
+        auto hex16 = [](const std::string& x) {
+            return x.size() == 16 && x.find_first_not_of("0123456789abcdef") == std::string::npos;
+        };
+        if (at == std::string::npos || !hex16(a.workload_hash.substr(0, at)) || !hex16(a.workload_hash.substr(at + 1)))
+            throw UsageError("--workload-hash wants HASH@CONTENT, two 16-digit hex numbers; got '" + a.workload_hash + "'");
+        if (a.trace.empty() || sharded || local_jobs > 1 || !a.frames.empty())
+            throw UsageError("--workload-hash is for a sweep's points: one process simulating a --trace");
+        given_hash = a.workload_hash.substr(0, at);
+        given_content = a.workload_hash.substr(at + 1);
+    }
 
     auto t0 = clock::now();
     Trace trace;  // the whole trace, or (streamed) the header, moved to the stream
@@ -384,7 +401,7 @@ int cmd_simulate(const SimulateArgs& a) {
     }
     const bool pairless = cfg.icc.decoder.select == model::TriangleSelect::any;
     WorkloadTally tally(header, pairless);
-    tally.fold_hash = !a.no_workload_hash;
+    tally.fold_hash = !a.no_workload_hash && given_hash.empty();
     // The workload's figures and hash fold the trace in its own order.
     (trace_order ? trace_order : source)->observers.push_back(tally.observer());
     model::MemoryStats memory;
@@ -414,7 +431,19 @@ int cmd_simulate(const SimulateArgs& a) {
     ParamSet named_resolved = named, resolved = mp;
     for (ParamSet* p : {&named_resolved, &resolved})
         model::resolve_workload(*p, header.group_size, header.shadow_group_size, header.tris_per_sphere);
-    const Provenance provenance = make_provenance(named_resolved, resolved, tally.fold_hash ? tally.hasher.value() : "");
+    // The trace's content, as read (from a file or a pipe).
+    const std::string content = trace_reader ? hex64(trace_reader->content_hash())
+                                : !a.trace.empty() ? hex64(header.content_hash)
+                                                   : std::string();
+    if (!given_hash.empty() && content != given_content) {
+        std::cerr << "raplas: internal error: --workload-hash was folded over a trace of content " << given_content
+                  << ", but " << a.trace << " has content " << content << "\n";
+        return kExitInternalError;
+    }
+    const Provenance provenance = make_provenance(named_resolved, resolved,
+                                                  !given_hash.empty() ? given_hash
+                                                  : tally.fold_hash   ? tally.hasher.value()
+                                                                      : "");
     const WorkloadFacts facts = workload_facts(header, tally, result);
     SimReportInput in;
     in.provenance = &provenance;
@@ -428,12 +457,7 @@ int cmd_simulate(const SimulateArgs& a) {
     if (stream) in.frontend_waits_s = stream->frontend_waits_s();
     in.memory = &memory;
     // What made the result (a shard's or a frame's: merge compares them).
-    auto result_inputs = [&] {
-        std::string content;
-        if (trace_reader) content = hex64(trace_reader->content_hash());
-        else if (!a.trace.empty()) content = hex64(header.content_hash);
-        return hash_inputs(simulate_inputs(a), false, content);
-    };
+    auto result_inputs = [&] { return hash_inputs(simulate_inputs(a), false, content); };
     if (sharded) {
         const PartialInput pi{shard, in, resolved.dump(), result_inputs()};
         write_file_atomically(a.json, partial_json(pi).dump(2) + "\n");

@@ -38,6 +38,7 @@
 #include "raplas/app/processes.hpp"
 #include "raplas/app/progress.hpp"
 #include "raplas/app/sim_report.hpp"
+#include "raplas/frontend/trace_io.hpp"
 #include "raplas/util/atomic_file.hpp"
 #include "raplas/util/error.hpp"
 #include "raplas/util/files.hpp"
@@ -81,6 +82,7 @@ struct Sweep {
     Layout layout;
     std::vector<TraceJob> traces;
     std::vector<std::size_t> trace_of;                  // per input x combo
+    std::vector<char> any_of;                           // per input x combo: icc.triangle_select = any
     std::string wd;                                     // absolute
     std::string trace_dir;                              // where the traces are (wd; --find shares one)
     json spec;
@@ -90,6 +92,7 @@ struct Sweep {
     std::size_t point_trace(std::size_t i) const {
         return trace_of[layout.input(i) * layout.combos() + layout.combo(i)];
     }
+    bool point_any(std::size_t i) const { return any_of[layout.input(i) * layout.combos() + layout.combo(i)] != 0; }
     std::string trace_file(std::size_t s) const { return trace_dir + "/trace-" + std::to_string(s) + ".trace"; }
     std::string trace_log(std::size_t s) const { return trace_dir + "/trace-" + std::to_string(s) + ".log"; }
     std::string point_csv(std::size_t i) const { return wd + "/point-" + std::to_string(i) + ".csv"; }
@@ -320,6 +323,7 @@ Sweep make_sweep(const SweepArgs& a, const std::string& wd) {
             }
             sw.traces[it->second].any = sw.traces[it->second].any || any;
             sw.trace_of.push_back(it->second);
+            sw.any_of.push_back(any ? 1 : 0);
         }
     }
 
@@ -690,6 +694,42 @@ int run_sweep(const Sweep& sw, const SweepArgs& a) {
         m += "  (stderr: " + log + ")\n";
         pr.message(m);
     };
+    // The workload hash of each trace under each reading its points take,
+    // folded here once for all of them (each point would fold it again over
+    // the whole trace), given to them as HASH@CONTENT: none for an animated
+    // input, or a trace this cannot read (its points say what is wrong).
+    struct Folded {
+        bool done = false;
+        std::string any, both;
+    };
+    std::vector<Folded> folded(ns);
+    auto workload_hash_of = [&](std::size_t i) -> std::string {
+        const std::size_t s = sw.point_trace(i);
+        Folded& f = folded[s];
+        if (sw.traces[s].animated) return "";
+        if (!f.done) {
+            f.done = true;
+            bool need_any = false, need_both = false;
+            for (std::size_t j = 0; j < n; ++j)
+                if (sw.point_trace(j) == s) (sw.point_any(j) ? need_any : need_both) = true;
+            try {
+                TraceReader r(sw.trace_file(s));
+                std::optional<WorkloadHasher> ha, hb;
+                if (need_any) ha.emplace(r.header(), true);
+                if (need_both) hb.emplace(r.header(), false);
+                TraceGroup g;
+                while (r.next(g)) {
+                    if (ha) ha->add(g);
+                    if (hb) hb->add(g);
+                }
+                const std::string at = "@" + hex64(r.content_hash());
+                if (ha) f.any = ha->value() + at;
+                if (hb) f.both = hb->value() + at;
+            } catch (const std::exception&) {
+            }
+        }
+        return sw.point_any(i) ? f.any : f.both;
+    };
     auto next_task = [&]() -> std::optional<std::pair<bool, std::size_t>> {
         for (std::size_t s = 0; s < ns; ++s)
             if (trace[s] == St::pending) return std::make_pair(true, s);
@@ -712,6 +752,8 @@ int run_sweep(const Sweep& sw, const SweepArgs& a) {
                 trace[c.index] = St::running;
             } else {
                 c.argv = sw.point_argv(c.index);
+                if (const std::string h = workload_hash_of(c.index); !h.empty())
+                    c.argv.insert(c.argv.end(), {"--workload-hash", h});
                 c.log = sw.point_log(c.index);
                 point[c.index] = St::running;
             }

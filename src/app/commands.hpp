@@ -56,6 +56,7 @@ struct SimulateArgs {
     bool animation_row = false;  // --animation-row: the CSV row a sweep of animated scenes reads
     bool fresh = false;          // --fresh: a work dir of other inputs is emptied, not refused
     bool no_workload_hash = false;  // (internal) a shard of --jobs: the feeding process folds the hash
+    std::string workload_hash;      // (internal) HASH@CONTENT: a sweep's point, its trace's hash folded by the sweep
 };
 
 // A machine config: a file, or a name in configs/ (the working directory's,

@@ -113,6 +113,33 @@ TEST_F(Sweep, RowsInPointOrderMatchSeparateSimulateRuns) {
         }
 }
 
+TEST_F(Sweep, WorkloadHashFoldedOnceMatchesEachReadingsOwn) {
+    // The sweep folds each trace's workload hash once and hands it to the
+    // trace's points: under either reading it is the one a point's own run
+    // folds, and the two readings' differ (the pair-less spheres count under
+    // `any` alone).
+    const RunResult r = run(plus(plus({"sweep"}, kScene), {"--vary", "icc.triangle_select=any,both", "--iccs", "2",
+                                                           "--fifo", "10", "--out", "h.csv", "-q"}));
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto rows = parse_csv(slurp(dir / "h.csv"));
+    ASSERT_EQ(rows.size(), 2u);
+    std::size_t traces = 0;
+    for (const auto& e : fs::directory_iterator(dir / "h.csv.d")) traces += e.path().extension() == ".trace";
+    EXPECT_EQ(traces, 1u);  // (the trace made for `any` serves both)
+    for (std::size_t i = 0; i < 2; ++i) {
+        const std::string reading = i == 0 ? "any" : "both";
+        EXPECT_EQ(rows[i].at("triangle_select"), reading);
+        const RunResult one = run(plus(plus({"simulate"}, kScene), {"--set", "icc.triangle_select=" + reading, "--iccs",
+                                                                    "2", "--fifo", "10", "--csv", "one.csv", "-q"}));
+        ASSERT_EQ(one.code, 0) << one.err;
+        const auto single = parse_csv(slurp(dir / "one.csv"));
+        ASSERT_EQ(single.size(), 1u);
+        EXPECT_EQ(rows[i].at("workload_hash"), single[0].at("workload_hash")) << reading;
+        EXPECT_EQ(rows[i].at("total_cycles"), single[0].at("total_cycles")) << reading;
+    }
+    EXPECT_NE(rows[0].at("workload_hash"), rows[1].at("workload_hash"));
+}
+
 TEST_F(Sweep, KilledSweepResumesWithNothingLostOrDuplicated) {
     const std::string& reference = reference_csv();
     ASSERT_FALSE(reference.empty());
