@@ -400,8 +400,7 @@ int cmd_simulate(const SimulateArgs& a) {
         };
     }
     const bool pairless = cfg.icc.decoder.select == model::TriangleSelect::any;
-    WorkloadTally tally(header, pairless);
-    tally.fold_hash = !a.no_workload_hash && given_hash.empty();
+    WorkloadTally tally(header, pairless, !a.no_workload_hash && given_hash.empty());
     // The workload's figures and hash fold the trace in its own order.
     (trace_order ? trace_order : source)->observers.push_back(tally.observer());
     model::MemoryStats memory;
@@ -442,7 +441,7 @@ int cmd_simulate(const SimulateArgs& a) {
     }
     const Provenance provenance = make_provenance(named_resolved, resolved,
                                                   !given_hash.empty() ? given_hash
-                                                  : tally.fold_hash   ? tally.hasher.value()
+                                                  : tally.hasher      ? tally.hasher->value()
                                                                       : "");
     const WorkloadFacts facts = workload_facts(header, tally, result);
     SimReportInput in;

@@ -157,7 +157,7 @@ int simulate_local_shards(const LocalShards& run, GroupStream& stream, FrontEndT
     m.csv = run.csv;
     m.quiet = run.quiet;
     m.summary_only = true;
-    m.workload_hash = tally ? tally->hasher.value() : "";  // (none: the merge refuses the parts)
+    m.workload_hash = tally && tally->hasher ? tally->hasher->value() : "";  // (none: the merge refuses the parts)
     return cmd_merge(m);
 }
 

@@ -62,7 +62,7 @@ struct Consumer {
         total = s.total_groups();
         if (observing) observing->stop();
         EXPECT_EQ(tally.groups, total);
-        hash = tally.hasher.value();
+        hash = tally.hasher->value();
     }
 };
 

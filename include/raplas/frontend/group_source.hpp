@@ -10,6 +10,7 @@
 #include <exception>
 #include <functional>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -148,7 +149,12 @@ private:
 // What the reports fold over every group as the model releases them, in
 // issue order: the group count, the summed counts and the workload hash.
 struct WorkloadTally {
-    WorkloadTally(const Trace& header, bool pairless) : hasher(header, pairless) {}
+    // fold_hash false: the hash is folded elsewhere (the process that feeds
+    // the shards of simulate --jobs, the sweep a point belongs to), and
+    // `hasher` is left empty.
+    WorkloadTally(const Trace& header, bool pairless, bool fold_hash = true) {
+        if (fold_hash) hasher.emplace(header, pairless);
+    }
     void add(const TraceGroup& g) {
         ++groups;
         if (g.n == 0) {  // not traced (FrameOptions::groups_read)
@@ -156,7 +162,7 @@ struct WorkloadTally {
             return;
         }
         counts += g.counts;
-        if (fold_hash) hasher.add(g);
+        if (hasher) hasher->add(g);
     }
     // An observer for GroupSource::observers that adds each group here.
     std::function<void(std::size_t, const TraceGroup&)> observer() {
@@ -165,8 +171,7 @@ struct WorkloadTally {
     std::uint64_t groups = 0;
     std::uint64_t untraced = 0;  // placeholders: in `groups`, not in `counts` or the hash
     GroupCounts counts;
-    WorkloadHasher hasher;
-    bool fold_hash = true;  // false: the hash is folded elsewhere (the shards of simulate --jobs)
+    std::optional<WorkloadHasher> hasher;
 };
 
 // Ray groups handed over by the front end's worker threads and taken by the
