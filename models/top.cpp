@@ -458,9 +458,11 @@ void Top::run_passes() {
             // plane tests computed) on other threads while this pass runs:
             // only without overlapped passes (that buffer is then idle), and
             // only when the groups are there already (it never waits for the
-            // front end). Nothing but the wall time changes.
+            // front end). Nothing but the wall time changes. (In the trace
+            // functional mode a load only unpacks the trace's records: it is
+            // made in place, where handing it to another thread would cost more.)
             ahead_pass = kNone;
-            if (!cfg_.overlap_passes && ci < chosen.size() && chosen[ci] < passes.size() && chosen[ci] % 2 != buf &&
+            if (cfg_.functional == FunctionalMode::compute && !cfg_.overlap_passes && ci < chosen.size() && chosen[ci] < passes.size() && chosen[ci] % 2 != buf &&
                 groups_.has(passes[chosen[ci]].end)) {
                 ahead_pass = chosen[ci];
                 feeder.run([this, next = passes[ahead_pass], nb = std::uint8_t(1 - buf)] { preload(next, nb); });

@@ -12,9 +12,14 @@
 
 namespace raplas {
 
+// (asked once: glibc reads /sys/devices/system/cpu/online at each call, and
+// the model asks once per pass)
 inline unsigned default_threads() {
-    unsigned n = std::thread::hardware_concurrency();
-    return n == 0 ? 1 : n;
+    static const unsigned n = [] {
+        const unsigned k = std::thread::hardware_concurrency();
+        return k == 0 ? 1u : k;
+    }();
+    return n;
 }
 
 template <class F>
