@@ -462,8 +462,8 @@ void Top::run_passes() {
             // functional mode a load only unpacks the trace's records: it is
             // made in place, where handing it to another thread would cost more.)
             ahead_pass = kNone;
-            if (cfg_.functional == FunctionalMode::compute && !cfg_.overlap_passes && ci < chosen.size() && chosen[ci] < passes.size() && chosen[ci] % 2 != buf &&
-                groups_.has(passes[chosen[ci]].end)) {
+            if (cfg_.functional == FunctionalMode::compute && !cfg_.overlap_passes && ci < chosen.size() &&
+                chosen[ci] < passes.size() && chosen[ci] % 2 != buf && groups_.has(passes[chosen[ci]].end)) {
                 ahead_pass = chosen[ci];
                 feeder.run([this, next = passes[ahead_pass], nb = std::uint8_t(1 - buf)] { preload(next, nb); });
             }
