@@ -11,6 +11,7 @@
 #include <optional>
 #include <sstream>
 #include <type_traits>
+#include <utility>
 
 #include <xxhash.h>
 
@@ -775,19 +776,11 @@ bool TraceReader::next(TraceGroup& g) {
 }
 
 Trace TraceReader::take_header() {
-    std::vector<Sphere> spheres = std::move(header_.spheres);
-    std::vector<std::uint32_t> first_tri = std::move(header_.first_tri);
-    std::vector<TriangleRec> triangles = std::move(header_.triangles);
-    std::vector<std::int32_t> tri_mesh_index = std::move(header_.tri_mesh_index);
-    header_.spheres.clear();
-    header_.first_tri.clear();
-    header_.triangles.clear();
-    header_.tri_mesh_index.clear();
-    Trace t = header_;  // (the rest is small)
-    t.spheres = std::move(spheres);
-    t.first_tri = std::move(first_tri);
-    t.triangles = std::move(triangles);
-    t.tri_mesh_index = std::move(tri_mesh_index);
+    Trace t = std::exchange(header_, Trace{});
+    // (what the groups' checks read stays: next_block, parse_group)
+    header_.tri_count = t.tri_count;
+    header_.primary_groups = t.primary_groups;
+    header_.pairless = t.pairless;
     return t;
 }
 

@@ -159,8 +159,8 @@ public:
 
     const Trace& header() const { return header_; }  // its groups stay empty
     // The header moved out, for a reader that is only to give the groups:
-    // header() then holds no spheres or triangles (their counts and the
-    // triangles per sphere, which the groups' checks read, stay).
+    // header() then holds only what the groups' checks read (the triangles
+    // per sphere, the primary group count, the pair-less flag).
     Trace take_header();
     // The next group in issue order into `g`; false once the END block is
     // read (and nothing follows it).
